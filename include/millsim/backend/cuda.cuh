@@ -1,0 +1,116 @@
+#pragma once
+// CUDA execution space: owning device arrays, a generic kernel that calls the same MILLSIM_HD
+// functors as the OpenMP loop, reductions and sort-by-key through Thrust. Only .cu files include
+// this header.
+#include <cuda_runtime.h>
+#include <thrust/device_ptr.h>
+#include <thrust/execution_policy.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/sort.h>
+#include <thrust/transform_reduce.h>
+#include <thrust/functional.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "millsim/backend/omp.hpp"
+
+namespace millsim::backend {
+
+struct Cuda {
+  static constexpr const char* kName = "cuda";
+};
+
+inline void cudaCheck(cudaError_t err, const char* what) {
+  if (err != cudaSuccess) throw std::runtime_error(std::string("CUDA error in ") + what + ": " + cudaGetErrorString(err));
+}
+
+template <class T>
+class Array<Cuda, T> {
+ public:
+  Array() = default;
+  explicit Array(std::size_t n, T fill = T{}) { resize(n, fill); }
+  Array(const Array&) = delete;
+  Array& operator=(const Array&) = delete;
+  ~Array() { release(); }
+  void resize(std::size_t n, T fill = T{}) {
+    release();
+    m_size = n;
+    if (n) cudaCheck(cudaMalloc(&m_ptr, n * sizeof(T)), "cudaMalloc");
+    std::vector<T> host(n, fill);
+    copyFromHost(host);
+  }
+  std::size_t size() const { return m_size; }
+  std::size_t bytes() const { return m_size * sizeof(T); }
+  T* data() { return m_ptr; }
+  const T* data() const { return m_ptr; }
+  void copyFromHost(const std::vector<T>& src) {
+    if (src.size() != m_size) {
+      release();
+      m_size = src.size();
+      if (m_size) cudaCheck(cudaMalloc(&m_ptr, m_size * sizeof(T)), "cudaMalloc");
+    }
+    if (m_size) cudaCheck(cudaMemcpy(m_ptr, src.data(), m_size * sizeof(T), cudaMemcpyHostToDevice), "copy to device");
+  }
+  void copyToHost(std::vector<T>& dst) const {
+    dst.resize(m_size);
+    if (m_size) cudaCheck(cudaMemcpy(dst.data(), m_ptr, m_size * sizeof(T), cudaMemcpyDeviceToHost), "copy to host");
+  }
+  void fill(T value) { copyFromHost(std::vector<T>(m_size, value)); }
+
+ private:
+  void release() {
+    if (m_ptr) cudaFree(m_ptr);
+    m_ptr = nullptr;
+    m_size = 0;
+  }
+  T* m_ptr = nullptr;
+  std::size_t m_size = 0;
+};
+
+template <class F>
+__global__ void forEachIndexKernel(int n, F f) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) f(i);
+}
+
+template <class F>
+void parallelFor(Cuda, int n, const F& f) {
+  if (n <= 0) return;
+  constexpr int kBlock = 128;
+  forEachIndexKernel<<<(n + kBlock - 1) / kBlock, kBlock>>>(n, f);
+  cudaCheck(cudaGetLastError(), "kernel launch");
+}
+
+template <class R, class F>
+R reduceSum(Cuda, int n, const F& f) {
+  return thrust::transform_reduce(thrust::device, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f,
+                                  R(0), thrust::plus<R>());
+}
+
+template <class R>
+struct MaxOp {
+  __host__ __device__ R operator()(R a, R b) const { return a > b ? a : b; }
+};
+
+template <class R, class F>
+R reduceMax(Cuda, int n, R init, const F& f) {
+  return thrust::transform_reduce(thrust::device, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f,
+                                  init, MaxOp<R>());
+}
+
+inline void sortByKey(Cuda, int* keys, int* values, int n, int /*key_count*/, std::vector<int>& /*scratch*/) {
+  thrust::stable_sort_by_key(thrust::device, keys, keys + n, values);
+}
+
+inline void synchronize(Cuda) { cudaCheck(cudaDeviceSynchronize(), "synchronize"); }
+
+// Number of CUDA devices; 0 when the driver or a device is missing (tests skip then).
+inline int cudaDeviceCount() {
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess) return 0;
+  return count;
+}
+
+}  // namespace millsim::backend

@@ -1,0 +1,81 @@
+#pragma once
+// OpenMP execution space. Together with cuda.cuh this is the only place that knows how loop
+// indices are handed out; the loop bodies are MILLSIM_HD functors shared with the CUDA kernels.
+#include <algorithm>
+#include <cstddef>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace millsim::backend {
+
+struct Omp {
+  static constexpr const char* kName = "omp";
+};
+
+// Owning array in the execution space's memory (host memory for OpenMP).
+template <class Space, class T>
+class Array;
+
+template <class T>
+class Array<Omp, T> {
+ public:
+  Array() = default;
+  explicit Array(std::size_t n, T fill = T{}) : m_data(n, fill) {}
+  void resize(std::size_t n, T fill = T{}) { m_data.assign(n, fill); }
+  std::size_t size() const { return m_data.size(); }
+  std::size_t bytes() const { return m_data.size() * sizeof(T); }
+  T* data() { return m_data.data(); }
+  const T* data() const { return m_data.data(); }
+  void copyFromHost(const std::vector<T>& src) { m_data = src; }
+  void copyToHost(std::vector<T>& dst) const { dst = m_data; }
+  void fill(T value) { std::fill(m_data.begin(), m_data.end(), value); }
+
+ private:
+  std::vector<T> m_data;
+};
+
+template <class F>
+void parallelFor(Omp, int n, const F& f) {
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) f(i);
+}
+
+// Sum of f(i) over [0, n). Accumulated in the result type (double for energies).
+template <class R, class F>
+R reduceSum(Omp, int n, const F& f) {
+  R total = R(0);
+#pragma omp parallel for schedule(static) reduction(+ : total)
+  for (int i = 0; i < n; ++i) total += f(i);
+  return total;
+}
+
+template <class R, class F>
+R reduceMax(Omp, int n, R init, const F& f) {
+  R best = init;
+#pragma omp parallel for schedule(static) reduction(max : best)
+  for (int i = 0; i < n; ++i) best = std::max(best, f(i));
+  return best;
+}
+
+// Stable sort of (key, value) pairs by key. Counting sort: keys are cell indices in [0, key_count),
+// so this is O(n + key_count) and needs no comparison sort.
+inline void sortByKey(Omp, int* keys, int* values, int n, int key_count, std::vector<int>& scratch) {
+  scratch.assign(static_cast<std::size_t>(key_count) + 1 + 2 * static_cast<std::size_t>(n), 0);
+  int* count = scratch.data();
+  int* out_keys = count + key_count + 1;
+  int* out_values = out_keys + n;
+  for (int i = 0; i < n; ++i) ++count[keys[i] + 1];
+  for (int k = 0; k < key_count; ++k) count[k + 1] += count[k];
+  for (int i = 0; i < n; ++i) {
+    const int slot = count[keys[i]]++;
+    out_keys[slot] = keys[i];
+    out_values[slot] = values[i];
+  }
+  std::copy(out_keys, out_keys + n, keys);
+  std::copy(out_values, out_values + n, values);
+}
+
+inline void synchronize(Omp) {}
+
+}  // namespace millsim::backend

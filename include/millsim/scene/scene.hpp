@@ -1,0 +1,102 @@
+#pragma once
+// Plain description of a case: what the user asked for, in SI units, with no behaviour.
+// Built from a case XML (src/io/case_xml.cpp) or from code. Physics never sees a Scene: the
+// simulation turns it into the parameter structs of each law.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace millsim::scene {
+
+struct TimeParams {
+  double end = 12.0;           // s, simulated time at which the run stops
+  std::string dt_mode = "auto";  // "auto": dt = t_contact / dt_divisor; "fixed": dt = dt_fixed
+  double dt_fixed = 1e-5;      // s
+  double dt_divisor = 50.0;    // N in dt = t_c / N (t_c: Hertz contact time of the stiffest pair)
+};
+
+struct OutputParams {
+  double series_every = 0.01;  // s between rows of series.csv
+  double fields_every = 0.5;   // s between HDF5 field snapshots (<= 0: none)
+  double checkpoint_every = 1.0;  // s between checkpoints (<= 0: only at the end)
+};
+
+// Contact material and law of the DEM spheres (walls are the same steel, as in the paper).
+struct DemParams {
+  double youngs_modulus = 1e8;    // Pa (paper: reduced from steel's 2e11 for speed)
+  double poisson = 0.29;          // -
+  double density = 7800.92;       // kg/m3 (paper, measured)
+  double restitution = 0.390;     // - (paper's calibrated value)
+  double friction = 0.496;        // - kinetic (Coulomb) friction coefficient
+  std::string damping = "exact";  // "exact" (Antypov & Elliott 2011) | "dualsphysics"
+  std::string friction_smoothing = "none";  // "none" | "tanh" (paper eq. 55: tanh(8 |v_t|))
+  double impact_velocity = 2.0;   // m/s, reference speed for the contact time in dt = t_c / N
+};
+
+struct LifterParams {
+  int count = 8;           // evenly spaced (paper: eight)
+  double height = 0.005;   // m, radial (paper: 5 mm)
+  double width = 0.005;    // m, tangential (not in the paper: see docs/cases.md)
+};
+
+struct DrumParams {
+  double diameter = 0.292;        // m, inner (paper: outer 300 mm, inner 8 mm smaller)
+  double length = 0.1;            // m, inner length between end plates
+  double speed_rpm = 24.8;        // rpm; used when critical_fraction <= 0
+  double critical_fraction = 0.0; // > 0: speed = fraction * Nc, Nc = 60/(2pi) sqrt(g/(R - r_mean))
+  double start_time = 2.0;        // s, rotation starts (after compaction)
+  double spin_up = 0.0;           // s, linear ramp to full speed
+  LifterParams lifters;
+};
+
+// Ball charge: Bond equilibrium distribution y = (x / B)^3.8 over classes min..top in steps.
+struct ChargeParams {
+  double filling = 0.30;       // ball volume / mill volume
+  double top_size = 0.035;     // m (B, makeup size)
+  double min_size = 0.015;     // m
+  double size_step = 0.005;    // m
+  double bond_exponent = 3.8;
+  std::uint64_t seed = 1;
+  int count_override = 0;      // > 0: this many balls instead of the filling (tests)
+};
+
+// The paper's 2 s piston phase: balls are placed loosely in a longer drum and the back plate
+// moves to its final position over `duration` while gravity settles the charge.
+struct CompactionParams {
+  double duration = 2.0;          // s (piston motion ends at duration * 0.75, then settling)
+  double length_factor = 3.0;     // generation length / final length
+};
+
+struct AngleParams {
+  bool enabled = true;
+  double start_time = 4.0;     // s, frames before this are not used (transient after start)
+  int frames = 100;            // evenly spaced over [start_time, end]
+  double pixels_per_mm = 2.0;
+  double threshold = 0.5;      // fraction of frames a pixel must be covered in
+  int smoothing_px = 5;        // box filter half-width applied to the thresholded map
+  double fit_offset_mm = 60.0; // regression starts this far right of the highest edge point
+  double fit_length_mm = 0.0;  // > 0: regression stops after this length; 0: to the toe
+};
+
+struct Scene {
+  std::string name = "ball_mill_300_balls";
+  std::string source = "<embedded>";  // file the scene came from, for messages
+  // Element name -> line in the source file, so checks made after parsing (a filling that does
+  // not fit, ...) can still name file:line. Keys are dotted element paths ("drum.lifters").
+  std::map<std::string, int> element_lines;
+  std::array<double, 3> gravity{0.0, -9.81, 0.0};
+  // Effects the scene calls for; only their stages and arrays exist in a run.
+  bool effect_dem = true;
+  bool effect_sph = false;
+  TimeParams time;
+  OutputParams output;
+  DemParams dem;
+  DrumParams drum;
+  ChargeParams charge;
+  CompactionParams compaction;
+  AngleParams angle;
+};
+
+}  // namespace millsim::scene

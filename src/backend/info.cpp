@@ -1,0 +1,15 @@
+#include "millsim/backend/info.hpp"
+
+#include <omp.h>
+
+namespace millsim::backend {
+
+int ompMaxThreads() { return omp_get_max_threads(); }
+
+#if !defined(MILLSIM_HAVE_CUDA)
+bool cudaCompiled() { return false; }
+int cudaDevices() { return 0; }
+std::string cudaDeviceName() { return ""; }
+#endif
+
+}  // namespace millsim::backend

@@ -1,0 +1,74 @@
+#pragma once
+// Backend-neutral face of the DEM solver. The time loop (src/sim) drives an engine through this
+// interface; DemSolver<Space, T> implements it once for every execution space and precision.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dem/contact/damping.hpp"
+
+namespace millsim::dem {
+
+struct DemSetup {
+  double k_coef = 0;             // 4/3 E*
+  double alpha = 0;              // damping, see damping.hpp
+  double wall_mass_factor = 1;   // m* of a wall contact = factor * m
+  double friction = 0;
+  bool tanh_smoothing = false;
+  std::array<double, 3> gravity{0, -9.81, 0};
+  double skin = 0;               // neighbour-list skin [m]
+  std::array<double, 3> domain_lo{}, domain_hi{};  // box covering every particle position
+  double max_radius = 0;
+};
+
+// Plain host copy of the state: what checkpoints, writers and tests read and write.
+struct DemHostState {
+  std::vector<double> pos, vel, omega;  // 3 per particle
+  std::vector<double> radius, mass, inertia;
+  std::vector<std::int64_t> hist_id;    // kHistorySlots per particle
+  std::vector<double> hist_xi;          // 3 * kHistorySlots per particle
+  std::vector<double> dissipated, work_in;
+  std::size_t size() const { return radius.size(); }
+};
+
+struct DrumState {
+  double radius = 0, z_back = 0, v_back = 0, omega = 0, phi = 0, phase0 = 0;
+  int lifter_count = 0;
+  double lifter_height = 0, lifter_width = 0;
+};
+
+struct DemSums {
+  double kinetic = 0;      // translational + rotational, J
+  double potential = 0;    // -sum m g . x, J
+  double dissipated = 0;   // accumulated, J
+  double work_in = 0;      // accumulated work of the walls on the balls, J
+  double elastic = 0;      // normal elastic energy stored in contacts now, J
+  double drum_torque = 0;  // moment of the charge on the drum about +z now, N m
+  double max_speed = 0;    // m/s
+};
+
+class DemEngine {
+ public:
+  virtual ~DemEngine() = default;
+  virtual const char* backendName() const = 0;
+  virtual const char* precisionName() const = 0;
+  virtual void setState(const DemHostState& state) = 0;
+  virtual void getState(DemHostState& state) const = 0;
+  // Builds the neighbour list and the forces of the current state (call after setState).
+  virtual void initialize(const DrumState& walls) = 0;
+  // One velocity-Verlet step; `walls` is the wall state at the end of the step.
+  virtual void step(const DrumState& walls, double dt) = 0;
+  virtual DemSums sums() const = 0;
+  virtual std::map<std::string, std::size_t> memoryBytes() const = 0;
+  virtual std::int64_t neighbourRebuilds() const = 0;
+};
+
+std::unique_ptr<DemEngine> makeDemEngineOmp(const DemSetup& setup, bool single_precision);
+#if defined(MILLSIM_HAVE_CUDA)
+std::unique_ptr<DemEngine> makeDemEngineCuda(const DemSetup& setup, bool single_precision);
+#endif
+
+}  // namespace millsim::dem

@@ -1,0 +1,937 @@
+// Case XML reader. The schema below is the only place that knows the format: parsing,
+// validation, `--set` overrides and describeCaseFormat() all walk the same table, so a new
+// attribute is one row and cannot be documented differently from how it is checked.
+#include "millsim/io/case_xml.hpp"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "millsim/core/error.hpp"
+
+namespace millsim::io {
+namespace {
+
+using scene::Scene;
+using tinyxml2::XMLAttribute;
+using tinyxml2::XMLDocument;
+using tinyxml2::XMLElement;
+using tinyxml2::XMLNode;
+
+constexpr const char* kRootTag = "millsim";
+
+// ---- schema types ------------------------------------------------------------------------------
+
+enum class Kind { Number, Integer, Flag, Choice, Text, Seed };
+
+// Setters into the Scene are accessors returning a reference, so one function serves parsing
+// (write) and the docs (read the default of a default-constructed Scene): the documented default
+// can never differ from the one a run gets.
+using NumberRef = double& (*)(Scene&);
+using IntegerRef = int& (*)(Scene&);
+using FlagRef = bool& (*)(Scene&);
+using TextRef = std::string& (*)(Scene&);
+using SeedRef = std::uint64_t& (*)(Scene&);
+
+// Allowed range of a numeric attribute; open ends are strict inequalities.
+struct Bounds {
+  bool has_min = false;
+  double min = 0.0;
+  bool min_open = false;
+  bool has_max = false;
+  double max = 0.0;
+  bool max_open = false;
+
+  bool admits(double v) const {
+    if (has_min && (min_open ? !(v > min) : !(v >= min))) return false;
+    if (has_max && (max_open ? !(v < max) : !(v <= max))) return false;
+    return true;
+  }
+};
+
+Bounds anyValue() { return {}; }
+
+Bounds atLeast(double lo) {
+  Bounds b;
+  b.has_min = true;
+  b.min = lo;
+  return b;
+}
+
+Bounds above(double lo) {
+  Bounds b = atLeast(lo);
+  b.min_open = true;
+  return b;
+}
+
+// range('[', 0, 0.5, ')') reads like the interval it stands for.
+Bounds range(char open, double lo, double hi, char close) {
+  Bounds b = atLeast(lo);
+  b.min_open = open == '(';
+  b.has_max = true;
+  b.max = hi;
+  b.max_open = close == ')';
+  return b;
+}
+
+struct AttrSpec {
+  std::string element;  // dotted element path; "" is the root <millsim>
+  std::string name;
+  Kind kind = Kind::Number;
+  std::string unit;  // SI (or the unit the Scene stores); "" when dimensionless
+  Bounds bounds;
+  std::vector<std::string> choices;
+  bool required = false;
+  std::string one_of;        // attributes of one element sharing this tag: exactly one is given
+  std::string default_note;  // shown instead of the Scene default where that would mislead
+  std::string description;
+  NumberRef number = nullptr;
+  IntegerRef integer = nullptr;
+  FlagRef flag = nullptr;
+  TextRef text = nullptr;
+  SeedRef seed = nullptr;
+
+  std::string path() const { return element.empty() ? name : element + "." + name; }
+
+  AttrSpec mandatory() const {
+    AttrSpec copy = *this;
+    copy.required = true;
+    copy.default_note = "required";
+    return copy;
+  }
+  AttrSpec exclusive(const char* group, const char* note) const {
+    AttrSpec copy = *this;
+    copy.one_of = group;
+    copy.default_note = note;
+    return copy;
+  }
+  AttrSpec shownDefault(const char* note) const {
+    AttrSpec copy = *this;
+    copy.default_note = note;
+    return copy;
+  }
+};
+
+struct ElementSpec {
+  std::string path;  // "" for the root, "drum.lifters" for <lifters> inside <drum>
+  bool required = false;
+  FlagRef present = nullptr;  // set to whether the element is in the case (effect switches)
+  std::string description;
+
+  std::string tag() const {
+    if (path.empty()) return kRootTag;
+    const auto dot = path.rfind('.');
+    return dot == std::string::npos ? path : path.substr(dot + 1);
+  }
+  std::string parent() const {
+    const auto dot = path.rfind('.');
+    return dot == std::string::npos ? std::string() : path.substr(0, dot);
+  }
+};
+
+// A rule over more than one attribute; the message blames `element`.`name`. Runs after every
+// attribute passed its own bounds, so the values it reads are valid.
+struct CrossCheck {
+  std::string element;
+  std::string name;
+  std::string rule;                       // for the docs
+  std::string (*violation)(const Scene&);  // "" when the rule holds, else "must be ..."
+};
+
+AttrSpec number(const char* element, const char* name, const char* unit, Bounds bounds,
+                NumberRef ref, const char* description) {
+  AttrSpec s;
+  s.element = element;
+  s.name = name;
+  s.kind = Kind::Number;
+  s.unit = unit;
+  s.bounds = bounds;
+  s.number = ref;
+  s.description = description;
+  return s;
+}
+
+AttrSpec integer(const char* element, const char* name, const char* unit, Bounds bounds,
+                 IntegerRef ref, const char* description) {
+  AttrSpec s = number(element, name, unit, bounds, nullptr, description);
+  s.kind = Kind::Integer;
+  s.integer = ref;
+  return s;
+}
+
+AttrSpec flag(const char* element, const char* name, FlagRef ref, const char* description) {
+  AttrSpec s = number(element, name, "", anyValue(), nullptr, description);
+  s.kind = Kind::Flag;
+  s.flag = ref;
+  return s;
+}
+
+AttrSpec choice(const char* element, const char* name, std::vector<std::string> choices,
+                TextRef ref, const char* description) {
+  AttrSpec s = number(element, name, "", anyValue(), nullptr, description);
+  s.kind = Kind::Choice;
+  s.choices = std::move(choices);
+  s.text = ref;
+  return s;
+}
+
+AttrSpec text(const char* element, const char* name, TextRef ref, const char* description) {
+  AttrSpec s = number(element, name, "", anyValue(), nullptr, description);
+  s.kind = Kind::Text;
+  s.text = ref;
+  return s;
+}
+
+AttrSpec seed(const char* element, const char* name, SeedRef ref, const char* description) {
+  AttrSpec s = number(element, name, "", anyValue(), nullptr, description);
+  s.kind = Kind::Seed;
+  s.seed = ref;
+  return s;
+}
+
+std::string formatNumber(double v) {
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+// ---- the schema --------------------------------------------------------------------------------
+
+struct Schema {
+  std::vector<ElementSpec> elements;
+  std::vector<AttrSpec> attributes;
+  std::vector<CrossCheck> checks;
+
+  const ElementSpec* element(const std::string& path) const {
+    for (const auto& e : elements)
+      if (e.path == path) return &e;
+    return nullptr;
+  }
+  const AttrSpec* attribute(const std::string& element, const std::string& name) const {
+    for (const auto& a : attributes)
+      if (a.element == element && a.name == name) return &a;
+    return nullptr;
+  }
+  std::vector<const AttrSpec*> attributesOf(const std::string& element) const {
+    std::vector<const AttrSpec*> out;
+    for (const auto& a : attributes)
+      if (a.element == element) out.push_back(&a);
+    return out;
+  }
+  std::vector<const ElementSpec*> childrenOf(const std::string& path) const {
+    std::vector<const ElementSpec*> out;
+    for (const auto& e : elements)
+      if (!e.path.empty() && e.parent() == path) out.push_back(&e);
+    return out;
+  }
+};
+
+Schema buildSchema() {
+  Schema s;
+  s.elements = {
+      {"", true, nullptr, "Root of a case."},
+      {"time", true, nullptr, "How long to simulate and how the time step is chosen."},
+      {"gravity", false, nullptr, "Gravity vector; the drum axis is z."},
+      {"output", false, nullptr, "What is written and how often."},
+      {"dem", false, [](Scene& sc) -> bool& { return sc.effect_dem; },
+       "Contact material and law of the balls (walls are the same steel). Its presence enables "
+       "the DEM effect: a case without <dem> has no balls."},
+      {"drum", true, nullptr, "The rotating drum: geometry and speed."},
+      {"drum.lifters", false, nullptr, "Box lifters on the drum shell, evenly spaced."},
+      {"charge", false, nullptr,
+       "Ball charge: Bond equilibrium distribution y = (x / B)^bond_exponent over the classes "
+       "min_size..top_size in size_step steps."},
+      {"compaction", false, nullptr,
+       "The piston phase before rotation: balls are placed loosely in a longer drum and the back "
+       "plate moves to its final position while gravity settles the charge."},
+      {"angle_of_repose", false, nullptr,
+       "Dynamic angle of repose measured from rendered front views, as the paper measured it "
+       "from camera frames."},
+  };
+
+  s.attributes = {
+      text("", "name", [](Scene& sc) -> std::string& { return sc.name; },
+           "Case name, used in outputs and messages.")
+          .shownDefault("file stem"),
+
+      number("time", "end", "s", above(0), [](Scene& sc) -> double& { return sc.time.end; },
+             "Simulated time at which the run stops.")
+          .mandatory(),
+      choice("time", "dt", {"auto", "fixed"},
+             [](Scene& sc) -> std::string& { return sc.time.dt_mode; },
+             "Time step rule: auto = Hertz contact time / dt_divisor, fixed = dt_fixed."),
+      number("time", "dt_divisor", "", atLeast(5),
+             [](Scene& sc) -> double& { return sc.time.dt_divisor; },
+             "N in dt = t_c / N, t_c the Hertz contact time of the stiffest pair at "
+             "dem.impact_velocity."),
+      number("time", "dt_fixed", "s", above(0),
+             [](Scene& sc) -> double& { return sc.time.dt_fixed; }, "Time step when dt=\"fixed\"."),
+
+      number("gravity", "x", "m/s^2", anyValue(),
+             [](Scene& sc) -> double& { return sc.gravity[0]; }, "Gravity, x component."),
+      number("gravity", "y", "m/s^2", anyValue(),
+             [](Scene& sc) -> double& { return sc.gravity[1]; }, "Gravity, y component (up is +y)."),
+      number("gravity", "z", "m/s^2", anyValue(),
+             [](Scene& sc) -> double& { return sc.gravity[2]; },
+             "Gravity, z component (along the drum axis)."),
+
+      number("output", "series_every", "s", above(0),
+             [](Scene& sc) -> double& { return sc.output.series_every; },
+             "Interval between rows of series.csv."),
+      number("output", "fields_every", "s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.output.fields_every; },
+             "Interval between HDF5 field snapshots; 0: none."),
+      number("output", "checkpoint_every", "s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.output.checkpoint_every; },
+             "Interval between checkpoints; 0: only at the end."),
+
+      number("dem", "youngs_modulus", "Pa", above(0),
+             [](Scene& sc) -> double& { return sc.dem.youngs_modulus; },
+             "Young's modulus of balls and walls (paper: 1e8, reduced from steel's 2e11 for "
+             "speed)."),
+      number("dem", "poisson", "", range('[', 0, 0.5, ')'),
+             [](Scene& sc) -> double& { return sc.dem.poisson; }, "Poisson ratio (paper: 0.29)."),
+      number("dem", "density", "kg/m^3", above(0),
+             [](Scene& sc) -> double& { return sc.dem.density; },
+             "Ball density (paper: 7800.92, measured)."),
+      number("dem", "restitution", "", range('(', 0, 1, ']'),
+             [](Scene& sc) -> double& { return sc.dem.restitution; },
+             "Coefficient of restitution of every contact (paper's calibrated value: 0.390)."),
+      number("dem", "friction", "", atLeast(0),
+             [](Scene& sc) -> double& { return sc.dem.friction; },
+             "Kinetic (Coulomb) friction coefficient (paper's calibrated value: 0.496)."),
+      choice("dem", "damping", {"exact", "dualsphysics"},
+             [](Scene& sc) -> std::string& { return sc.dem.damping; },
+             "Normal damping: exact = gives the restitution exactly (Antypov & Elliott 2011); "
+             "dualsphysics = DualSPHysics' formula, whose real restitution differs."),
+      choice("dem", "friction_smoothing", {"none", "tanh"},
+             [](Scene& sc) -> std::string& { return sc.dem.friction_smoothing; },
+             "Tangential force near zero slip: none = plain Coulomb limit; tanh = scaled by "
+             "tanh(8 |v_t|) as in the paper's eq. 55."),
+      number("dem", "impact_velocity", "m/s", above(0),
+             [](Scene& sc) -> double& { return sc.dem.impact_velocity; },
+             "Reference impact speed for the contact time t_c in dt = t_c / dt_divisor."),
+
+      number("drum", "diameter", "m", above(0),
+             [](Scene& sc) -> double& { return sc.drum.diameter; },
+             "Inner diameter (paper: outer 300/400/500 mm, inner 8 mm smaller)."),
+      number("drum", "length", "m", above(0), [](Scene& sc) -> double& { return sc.drum.length; },
+             "Inner length between the end plates."),
+      number("drum", "speed_rpm", "rpm", atLeast(0),
+             [](Scene& sc) -> double& { return sc.drum.speed_rpm; },
+             "Rotation speed. Give exactly one of speed_rpm and critical_fraction.")
+          .exclusive("speed", "one of speed_rpm, critical_fraction"),
+      number("drum", "critical_fraction", "", range('(', 0, 2, ']'),
+             [](Scene& sc) -> double& { return sc.drum.critical_fraction; },
+             "Rotation speed as a fraction of the critical speed Nc = 60/(2 pi) sqrt(g / (R - "
+             "r_mean)) (paper: 0.3). Give exactly one of speed_rpm and critical_fraction.")
+          .exclusive("speed", "one of speed_rpm, critical_fraction"),
+      number("drum", "start_time", "s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.drum.start_time; },
+             "Rotation starts (after the compaction)."),
+      number("drum", "spin_up", "s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.drum.spin_up; },
+             "Linear ramp to full speed; 0: full speed at once."),
+
+      integer("drum.lifters", "count", "", atLeast(0),
+              [](Scene& sc) -> int& { return sc.drum.lifters.count; },
+              "Number of lifters, evenly spaced; 0: smooth shell (paper: 8)."),
+      number("drum.lifters", "height", "m", atLeast(0),
+             [](Scene& sc) -> double& { return sc.drum.lifters.height; },
+             "Radial height, < drum.diameter / 4 (paper: 5 mm)."),
+      number("drum.lifters", "width", "m", atLeast(0),
+             [](Scene& sc) -> double& { return sc.drum.lifters.width; },
+             "Tangential width (not in the paper: see docs/cases.md)."),
+
+      number("charge", "filling", "", range('(', 0, 0.7, ']'),
+             [](Scene& sc) -> double& { return sc.charge.filling; },
+             "Ball volume / drum volume (paper: 0.3)."),
+      number("charge", "top_size", "m", above(0),
+             [](Scene& sc) -> double& { return sc.charge.top_size; },
+             "Largest ball diameter, the makeup size B (paper: 35 mm)."),
+      number("charge", "min_size", "m", above(0),
+             [](Scene& sc) -> double& { return sc.charge.min_size; },
+             "Smallest ball diameter, <= top_size."),
+      number("charge", "size_step", "m", above(0),
+             [](Scene& sc) -> double& { return sc.charge.size_step; },
+             "Step between ball classes (paper: 5 mm)."),
+      number("charge", "bond_exponent", "", above(0),
+             [](Scene& sc) -> double& { return sc.charge.bond_exponent; },
+             "Exponent of Bond's equilibrium distribution (paper: 3.8)."),
+      seed("charge", "seed", [](Scene& sc) -> std::uint64_t& { return sc.charge.seed; },
+           "Seed of the random ball placement."),
+      integer("charge", "count", "", atLeast(0),
+              [](Scene& sc) -> int& { return sc.charge.count_override; },
+              "> 0: this many balls of the classes instead of the filling (tests); 0: from the "
+              "filling."),
+
+      number("compaction", "duration", "s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.compaction.duration; },
+             "Piston phase (paper: 2 s); the plate stops at 0.75 duration, then the charge "
+             "settles."),
+      number("compaction", "length_factor", "", atLeast(1),
+             [](Scene& sc) -> double& { return sc.compaction.length_factor; },
+             "Length of the drum the balls are generated in / final length."),
+
+      flag("angle_of_repose", "enabled", [](Scene& sc) -> bool& { return sc.angle.enabled; },
+           "Measure the angle at the end of the run."),
+      number("angle_of_repose", "start_time", "s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.angle.start_time; },
+             "Frames before this time are not used (transient after the start)."),
+      integer("angle_of_repose", "frames", "", atLeast(2),
+              [](Scene& sc) -> int& { return sc.angle.frames; },
+              "Frames evenly spaced over [start_time, time.end]."),
+      number("angle_of_repose", "pixels_per_mm", "px/mm", above(0),
+             [](Scene& sc) -> double& { return sc.angle.pixels_per_mm; },
+             "Resolution of the rendered front view."),
+      number("angle_of_repose", "threshold", "", range('(', 0, 1, ')'),
+             [](Scene& sc) -> double& { return sc.angle.threshold; },
+             "Fraction of the frames a pixel must be covered in to count as charge."),
+      integer("angle_of_repose", "smoothing_px", "px", atLeast(0),
+              [](Scene& sc) -> int& { return sc.angle.smoothing_px; },
+              "Half-width of the box filter applied to the thresholded map."),
+      number("angle_of_repose", "fit_offset_mm", "mm", atLeast(0),
+             [](Scene& sc) -> double& { return sc.angle.fit_offset_mm; },
+             "The line fit starts this far right of the highest edge point."),
+      number("angle_of_repose", "fit_length_mm", "mm", atLeast(0),
+             [](Scene& sc) -> double& { return sc.angle.fit_length_mm; },
+             "Length of the line fit; 0: to the toe of the charge."),
+  };
+
+  s.checks = {
+      {"drum.lifters", "height", "`drum.lifters.height` < `drum.diameter` / 4",
+       [](const Scene& sc) -> std::string {
+         const double limit = sc.drum.diameter / 4.0;
+         if (sc.drum.lifters.height < limit) return {};
+         return "must be < drum.diameter / 4 = " + formatNumber(limit) + " (m)";
+       }},
+      {"charge", "min_size", "`charge.min_size` <= `charge.top_size`",
+       [](const Scene& sc) -> std::string {
+         if (sc.charge.min_size <= sc.charge.top_size) return {};
+         return "must be <= charge.top_size = " + formatNumber(sc.charge.top_size) + " (m)";
+       }},
+  };
+  return s;
+}
+
+const Schema& schema() {
+  static const Schema kSchema = buildSchema();
+  return kSchema;
+}
+
+// ---- small text helpers ------------------------------------------------------------------------
+
+std::string joinPath(const std::string& parent, const std::string& child) {
+  return parent.empty() ? child : parent + "." + child;
+}
+
+std::string joinList(const std::vector<std::string>& items, const char* sep = ", ") {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i) out += sep;
+    out += items[i];
+  }
+  return out;
+}
+
+std::string unitSuffix(const std::string& unit) { return unit.empty() ? "" : " (" + unit + ")"; }
+
+std::string boundsText(const Bounds& b) {
+  if (b.has_min && b.has_max)
+    return std::string(b.min_open ? "(" : "[") + formatNumber(b.min) + ", " + formatNumber(b.max) +
+           (b.max_open ? ")" : "]");
+  if (b.has_min) return std::string(b.min_open ? "> " : ">= ") + formatNumber(b.min);
+  if (b.has_max) return std::string(b.max_open ? "< " : "<= ") + formatNumber(b.max);
+  return "any";
+}
+
+std::string mustBe(const Bounds& b) {
+  return (b.has_min && b.has_max ? "must be in " : "must be ") + boundsText(b);
+}
+
+std::string trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return {};
+  const auto last = s.find_last_not_of(" \t\r\n");
+  return std::string(s.substr(first, last - first + 1));
+}
+
+// Strict parsers: the whole string must be the value (no surrounding blanks, no trailing junk)
+// and they ignore the C locale, so "1,5" is never read as 1 and a German locale reads "1.5".
+// One leading '+' is accepted because people write "+9.81".
+std::string_view dropPlus(std::string_view s) {
+  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
+  return s;
+}
+
+bool parseDouble(std::string_view s, double& out) {
+  s = dropPlus(s);
+  if (s.empty()) return false;
+  const auto res = std::from_chars(s.data(), s.data() + s.size(), out, std::chars_format::general);
+  return res.ec == std::errc() && res.ptr == s.data() + s.size() && std::isfinite(out);
+}
+
+bool parseInt(std::string_view s, int& out) {
+  s = dropPlus(s);
+  long long v = 0;
+  const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (res.ec != std::errc() || res.ptr != s.data() + s.size()) return false;
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
+bool parseUint64(std::string_view s, std::uint64_t& out) {
+  s = dropPlus(s);
+  unsigned long long v = 0;
+  const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (res.ec != std::errc() || res.ptr != s.data() + s.size()) return false;
+  out = static_cast<std::uint64_t>(v);
+  return true;
+}
+
+// tinyxml2's ErrorStr() is "Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) Line number=2:
+// XMLElement name=b"; users get a sentence and the element instead.
+std::string malformedXmlText(const XMLDocument& doc) {
+  std::string what;
+  switch (doc.ErrorID()) {
+    case tinyxml2::XML_ERROR_PARSING_ELEMENT:
+      what = "cannot parse an element tag (an unclosed quote or a stray '<'?)";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+      what = "cannot parse an attribute (missing quotes or '=', or the same attribute twice)";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_TEXT: what = "cannot parse text"; break;
+    case tinyxml2::XML_ERROR_PARSING_CDATA: what = "unterminated CDATA section"; break;
+    case tinyxml2::XML_ERROR_PARSING_COMMENT: what = "unterminated comment"; break;
+    case tinyxml2::XML_ERROR_PARSING_DECLARATION: what = "cannot parse the <?xml ...?> line"; break;
+    case tinyxml2::XML_ERROR_PARSING_UNKNOWN: what = "cannot parse a <!...> construct"; break;
+    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: what = "the document is empty"; break;
+    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+      what = "end tag does not match the open element";
+      break;
+    case tinyxml2::XML_ERROR_PARSING:
+      what = "unexpected end of the document (an element left open?)";
+      break;
+    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED: what = "elements nested too deeply"; break;
+    default: what = XMLDocument::ErrorIDToName(doc.ErrorID()); break;
+  }
+  const std::string raw = doc.ErrorStr() ? doc.ErrorStr() : "";
+  const auto at = raw.find("Line number=");
+  const auto colon = at == std::string::npos ? std::string::npos : raw.find(": ", at);
+  if (colon != std::string::npos) {
+    std::string detail = raw.substr(colon + 2);
+    const std::string element_prefix = "XMLElement name=";
+    if (detail.rfind(element_prefix, 0) == 0) {
+      what += " in <" + detail.substr(element_prefix.size()) + ">";
+    } else if (!detail.empty()) {
+      if (detail.size() > 60) detail = detail.substr(0, 60) + "...";
+      what += " near '" + trim(detail) + "'";
+    }
+  }
+  return what;
+}
+
+// ---- the reader --------------------------------------------------------------------------------
+
+class CaseReader {
+ public:
+  explicit CaseReader(std::string source) : m_source(std::move(source)) {}
+
+  Scene read(const std::string& xml, const std::vector<std::string>& overrides) {
+    parseDocument(xml);
+    for (const auto& o : overrides) applyOverride(o);
+
+    Scene scene;
+    scene.source = m_source;
+    scene.name = std::filesystem::path(m_source).stem().string();
+    scene.element_lines.clear();
+    // Effects switched on by an element's presence are off unless the element is read.
+    for (const auto& e : schema().elements)
+      if (e.present) e.present(scene) = false;
+
+    readElement(*m_doc.RootElement(), *schema().element(""), scene);
+    runCrossChecks(scene);
+    return scene;
+  }
+
+ private:
+  void parseDocument(const std::string& xml) {
+    if (m_doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
+      throw core::InputError(m_source, std::max(1, m_doc.ErrorLineNum()),
+                             "malformed XML: " + malformedXmlText(m_doc));
+    const XMLElement* root = m_doc.RootElement();
+    if (!root) throw core::InputError(m_source, 1, "no root element (expected <millsim>)");
+    if (std::string(root->Name()) != kRootTag)
+      throw core::InputError(m_source, root->GetLineNum(),
+                             "root element is <" + std::string(root->Name()) +
+                                 ">, expected <millsim>");
+    // tinyxml2 accepts content after the root; a second root is a pasted case, not intent.
+    for (const XMLNode* n = root->NextSibling(); n; n = n->NextSibling()) {
+      if (const XMLElement* e = n->ToElement())
+        throw core::InputError(m_source, e->GetLineNum(),
+                               "unexpected element <" + std::string(e->Name()) +
+                                   "> after </millsim> (a case has one root)");
+      if (n->ToText() && !trim(n->Value()).empty())
+        throw core::InputError(m_source, n->GetLineNum(), "unexpected text after </millsim>");
+    }
+  }
+
+  [[noreturn]] static void failOverride(const std::string& text, const std::string& message) {
+    throw core::InputError("--set " + text + ": " + message);
+  }
+
+  void applyOverride(const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0)
+      failOverride(text, "expected PATH=VALUE, e.g. time.end=2 (paths: docs/case-format.md)");
+    const std::string path = text.substr(0, eq);
+    const std::string value = text.substr(eq + 1);
+    const auto dot = path.rfind('.');
+    const std::string element_path = dot == std::string::npos ? "" : path.substr(0, dot);
+    const std::string name = dot == std::string::npos ? path : path.substr(dot + 1);
+
+    const ElementSpec* element_spec = schema().element(element_path);
+    if (!element_spec) {
+      std::vector<std::string> known;
+      for (const auto& e : schema().elements)
+        if (!e.path.empty()) known.push_back(e.path);
+      failOverride(text, "unknown element '" + element_path + "' (expected one of: " +
+                             joinList(known) + ")");
+    }
+    const AttrSpec* attr = schema().attribute(element_path, name);
+    if (!attr)
+      failOverride(text, "unknown attribute '" + name + "' of <" + element_spec->tag() +
+                             "> (expected one of: " + attributeNames(element_path) + ")");
+
+    XMLElement* el = m_doc.RootElement();
+    std::string walked;
+    std::stringstream segments(element_path);
+    std::string segment;
+    while (!element_path.empty() && std::getline(segments, segment, '.')) {
+      walked = joinPath(walked, segment);
+      XMLElement* child = el->FirstChildElement(segment.c_str());
+      if (!child) {
+        child = m_doc.NewElement(segment.c_str());
+        el->InsertEndChild(child);
+        m_created_by[child] = text;
+      }
+      el = child;
+    }
+    // Setting one speed from the command line must not clash with the other in the file.
+    if (!attr->one_of.empty())
+      for (const AttrSpec* other : schema().attributesOf(element_path))
+        if (other != attr && other->one_of == attr->one_of) {
+          el->DeleteAttribute(other->name.c_str());
+          m_override_of.erase({el, other->name});
+        }
+    el->SetAttribute(name.c_str(), value.c_str());
+    m_override_of[{el, name}] = text;
+  }
+
+  static std::string attributeNames(const std::string& element_path) {
+    std::vector<std::string> names;
+    for (const AttrSpec* a : schema().attributesOf(element_path)) names.push_back(a->name);
+    return joinList(names);
+  }
+
+  // An element-level problem: file:line, or the override that created the element.
+  [[noreturn]] void failElement(const XMLElement& el, const std::string& message) const {
+    const auto created = m_created_by.find(&el);
+    if (el.GetLineNum() == 0 && created != m_created_by.end())
+      failOverride(created->second, message);
+    throw core::InputError(m_source, el.GetLineNum(), message);
+  }
+
+  // An attribute-level problem: `<tag attr="value">: message` at the attribute's line, or
+  // `--set path=value: message` when an override put the value there.
+  [[noreturn]] void failAttribute(const XMLElement& el, const XMLAttribute& attr,
+                                  const std::string& message) const {
+    const auto from_override = m_override_of.find({&el, attr.Name()});
+    if (from_override != m_override_of.end()) failOverride(from_override->second, message);
+    const int line = attr.GetLineNum() > 0 ? attr.GetLineNum() : el.GetLineNum();
+    throw core::InputError(m_source, line,
+                           "<" + std::string(el.Name()) + " " + attr.Name() + "=\"" +
+                               attr.Value() + "\">: " + message);
+  }
+
+  void readElement(const XMLElement& el, const ElementSpec& spec, Scene& scene) {
+    const std::string tag = spec.tag();
+    if (el.GetLineNum() > 0) scene.element_lines[spec.path.empty() ? kRootTag : spec.path] = el.GetLineNum();
+    m_read[spec.path] = &el;
+    if (spec.present) spec.present(scene) = true;
+
+    for (const XMLNode* n = el.FirstChild(); n; n = n->NextSibling()) {
+      if (!n->ToText()) continue;
+      const std::string content = trim(n->Value());
+      if (!content.empty())
+        throw core::InputError(m_source, n->GetLineNum() > 0 ? n->GetLineNum() : el.GetLineNum(),
+                               "<" + tag + ">: unexpected text '" + content.substr(0, 40) +
+                                   "' (values go in attributes)");
+    }
+
+    for (const XMLAttribute* a = el.FirstAttribute(); a; a = a->Next()) {
+      const AttrSpec* attr = schema().attribute(spec.path, a->Name());
+      if (!attr) {
+        const int line = a->GetLineNum() > 0 ? a->GetLineNum() : el.GetLineNum();
+        throw core::InputError(m_source, line,
+                               "<" + tag + ">: unknown attribute '" + a->Name() +
+                                   "' (expected one of: " + attributeNames(spec.path) + ")");
+      }
+      readValue(el, *a, *attr, scene);
+    }
+
+    std::map<std::string, std::vector<std::string>> groups;  // one_of tag -> attributes given
+    for (const AttrSpec* attr : schema().attributesOf(spec.path)) {
+      const bool given = el.Attribute(attr->name.c_str()) != nullptr;
+      if (attr->required && !given)
+        failElement(el, "<" + tag + ">: missing required attribute '" + attr->name + "'");
+      if (!attr->one_of.empty()) {
+        auto& group = groups[attr->one_of];
+        if (given) group.push_back(attr->name);
+      }
+    }
+    for (const auto& [group_tag, given] : groups) {
+      if (given.size() == 1) continue;
+      std::vector<std::string> members;
+      for (const AttrSpec* attr : schema().attributesOf(spec.path))
+        if (attr->one_of == group_tag) members.push_back(attr->name);
+      if (given.empty())
+        failElement(el, "<" + tag + ">: one of " + joinList(members, " or ") + " is required");
+      failElement(el, "<" + tag + ">: " + joinList(given, " and ") +
+                          " are mutually exclusive (give only one)");
+    }
+
+    const auto children = schema().childrenOf(spec.path);
+    std::map<std::string, int> seen;  // tag -> line of its first occurrence
+    for (const XMLElement* child = el.FirstChildElement(); child;
+         child = child->NextSiblingElement()) {
+      const std::string child_tag = child->Name();
+      const ElementSpec* child_spec = schema().element(joinPath(spec.path, child_tag));
+      if (!child_spec) failElement(*child, unknownElementText(child_tag, tag, spec.path, children));
+      if (const auto first = seen.find(child_tag); first != seen.end())
+        failElement(*child, "duplicate element <" + child_tag + "> under <" + tag +
+                                "> (first at line " + std::to_string(first->second) + ")");
+      seen[child_tag] = child->GetLineNum();
+      readElement(*child, *child_spec, scene);
+    }
+    for (const ElementSpec* child_spec : children)
+      if (child_spec->required && !seen.count(child_spec->tag()))
+        failElement(el, "<" + tag + ">: missing required element <" + child_spec->tag() + ">");
+  }
+
+  static std::string unknownElementText(const std::string& child_tag, const std::string& tag,
+                                        const std::string& path,
+                                        const std::vector<const ElementSpec*>& children) {
+    std::vector<std::string> names;
+    for (const ElementSpec* c : children) names.push_back(c->tag());
+    std::string message = "unknown element <" + child_tag + "> under <" + tag + ">";
+    message += names.empty() ? " (it takes no elements)"
+                             : " (expected one of: " + joinList(names) + ")";
+    // A known element in the wrong place is a common slip: say where it belongs.
+    for (const auto& e : schema().elements)
+      if (!e.path.empty() && e.tag() == child_tag && e.parent() != path)
+        message += "; <" + child_tag + "> belongs under <" +
+                   (e.parent().empty() ? std::string(kRootTag) : schema().element(e.parent())->tag()) +
+                   ">";
+    return message;
+  }
+
+  void readValue(const XMLElement& el, const XMLAttribute& a, const AttrSpec& attr,
+                 Scene& scene) const {
+    const std::string_view value = a.Value();
+    switch (attr.kind) {
+      case Kind::Number: {
+        double v = 0.0;
+        if (!parseDouble(value, v)) failAttribute(el, a, "expected a number" + unitSuffix(attr.unit));
+        if (!attr.bounds.admits(v)) failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
+        attr.number(scene) = v;
+        break;
+      }
+      case Kind::Integer: {
+        int v = 0;
+        if (!parseInt(value, v)) failAttribute(el, a, "expected an integer" + unitSuffix(attr.unit));
+        if (!attr.bounds.admits(v)) failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
+        attr.integer(scene) = v;
+        break;
+      }
+      case Kind::Seed: {
+        std::uint64_t v = 0;
+        if (!parseUint64(value, v))
+          failAttribute(el, a, "expected an integer in [0, 18446744073709551615]");
+        attr.seed(scene) = v;
+        break;
+      }
+      case Kind::Flag: {
+        if (value == "true")
+          attr.flag(scene) = true;
+        else if (value == "false")
+          attr.flag(scene) = false;
+        else
+          failAttribute(el, a, "expected true or false");
+        break;
+      }
+      case Kind::Choice: {
+        bool known = false;
+        for (const auto& c : attr.choices) known = known || value == c;
+        if (!known) failAttribute(el, a, "expected one of " + joinList(attr.choices));
+        attr.text(scene) = std::string(value);
+        break;
+      }
+      case Kind::Text: {
+        if (trim(value).empty()) failAttribute(el, a, "must not be empty");
+        attr.text(scene) = std::string(value);
+        break;
+      }
+    }
+  }
+
+  void runCrossChecks(const Scene& scene) const {
+    for (const CrossCheck& check : schema().checks) {
+      const std::string message = check.violation(scene);
+      if (message.empty()) continue;
+      const auto read = m_read.find(check.element);
+      if (read != m_read.end()) {
+        if (const XMLAttribute* a = read->second->FindAttribute(check.name.c_str()))
+          failAttribute(*read->second, *a, message);
+      }
+      // The value is the Scene default: blame the element it belongs in, or the nearest
+      // ancestor that is in the file.
+      std::string path = check.element;
+      while (!path.empty() && !m_read.count(path)) path = schema().element(path)->parent();
+      const XMLElement* el = m_read.at(path);
+      Scene defaults;
+      const AttrSpec* attr = schema().attribute(check.element, check.name);
+      failElement(*el, check.element + "." + check.name + " = " +
+                           formatNumber(attr->number(defaults)) + " (default): " + message);
+    }
+  }
+
+  std::string m_source;
+  XMLDocument m_doc;
+  // Values and elements put there by --set, so their errors name the override, not a line.
+  std::map<std::pair<const XMLElement*, std::string>, std::string> m_override_of;
+  std::map<const XMLElement*, std::string> m_created_by;
+  std::map<std::string, const XMLElement*> m_read;  // element path -> element read
+};
+
+std::string markdownCell(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '|') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string kindName(Kind k) {
+  switch (k) {
+    case Kind::Number: return "number";
+    case Kind::Integer: return "integer";
+    case Kind::Flag: return "boolean";
+    case Kind::Choice: return "choice";
+    case Kind::Text: return "text";
+    case Kind::Seed: return "integer (64-bit)";
+  }
+  return "?";
+}
+
+std::string allowedText(const AttrSpec& a) {
+  switch (a.kind) {
+    case Kind::Number:
+    case Kind::Integer: return boundsText(a.bounds);
+    case Kind::Flag: return "`true`, `false`";
+    case Kind::Choice: {
+      std::vector<std::string> quoted;
+      for (const auto& c : a.choices) quoted.push_back("`" + c + "`");
+      return joinList(quoted);
+    }
+    case Kind::Text: return "non-empty";
+    case Kind::Seed: return "[0, 2^64 - 1]";
+  }
+  return "";
+}
+
+std::string defaultText(const AttrSpec& a) {
+  if (!a.default_note.empty()) return a.default_note;
+  Scene defaults;
+  switch (a.kind) {
+    case Kind::Number: return formatNumber(a.number(defaults));
+    case Kind::Integer: return std::to_string(a.integer(defaults));
+    case Kind::Flag: return a.flag(defaults) ? "true" : "false";
+    case Kind::Choice:
+    case Kind::Text: return a.text(defaults);
+    case Kind::Seed: return std::to_string(a.seed(defaults));
+  }
+  return "";
+}
+
+}  // namespace
+
+Scene loadCaseText(const std::string& xml, const std::string& source_name,
+                   const std::vector<std::string>& overrides) {
+  return CaseReader(source_name).read(xml, overrides);
+}
+
+Scene loadCaseFile(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  // A directory opens as a stream on Linux and then reads as empty; reject it up front.
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw core::InputError(path + ": cannot open case file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw core::InputError(path + ": cannot open case file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw core::InputError(path + ": cannot read case file");
+  return loadCaseText(text.str(), path, overrides);
+}
+
+std::string describeCaseFormat() {
+  const Schema& s = schema();
+  std::ostringstream md;
+  md << "| Element | Path | Required | Description |\n|---|---|---|---|\n";
+  for (const auto& e : s.elements) {
+    std::string nested;
+    for (std::string p = e.path; !p.empty(); p = s.element(p)->parent())
+      nested = "<" + s.element(p)->tag() + ">" + nested;
+    md << "| `" << (e.path.empty() ? "<millsim>" : "<millsim>" + nested) << "` | "
+       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | " << (e.required ? "yes" : "no")
+       << " | " << markdownCell(e.description) << " |\n";
+  }
+  md << "\n| Attribute (`--set` path) | Type | Unit | Default | Allowed | Description |\n"
+     << "|---|---|---|---|---|---|\n";
+  for (const auto& a : s.attributes)
+    md << "| `" << a.path() << "` | " << kindName(a.kind) << " | " << (a.unit.empty() ? "-" : a.unit)
+       << " | " << markdownCell(defaultText(a)) << " | " << markdownCell(allowedText(a)) << " | "
+       << markdownCell(a.description) << " |\n";
+  md << "\nRules over more than one attribute:\n\n";
+  std::map<std::string, std::vector<std::string>> groups;
+  for (const auto& a : s.attributes)
+    if (!a.one_of.empty()) groups[a.element + "\n" + a.one_of].push_back("`" + a.path() + "`");
+  for (const auto& [key, members] : groups)
+    md << "- exactly one of " << joinList(members, " and ")
+       << " is given (a `--set` of one removes the other)\n";
+  for (const auto& c : s.checks) md << "- " << c.rule << "\n";
+  return md.str();
+}
+
+std::vector<std::string> caseAttributePaths() {
+  std::vector<std::string> out;
+  for (const auto& a : schema().attributes) out.push_back(a.path());
+  return out;
+}
+
+}  // namespace millsim::io

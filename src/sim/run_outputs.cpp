@@ -1,0 +1,105 @@
+#include "sim/run_outputs.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "millsim/core/error.hpp"
+
+namespace millsim::sim {
+
+SeriesWriter::SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append) {
+  const bool fresh = !append || !std::filesystem::exists(path);
+  m_out.open(path, fresh ? std::ios::out : std::ios::app);
+  if (!m_out) throw core::InputError(path.string() + ": cannot write the series file");
+  if (fresh) {
+    for (std::size_t i = 0; i < columns.size(); ++i) m_out << (i ? "," : "") << columns[i];
+    m_out << "\n";
+  }
+  m_out << std::setprecision(9);
+}
+
+void SeriesWriter::row(const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) m_out << (i ? "," : "") << values[i];
+  m_out << "\n";
+  m_out.flush();
+}
+
+void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
+                      const std::map<std::string, std::size_t>& memory, const std::string& case_name,
+                      const std::string& case_source) {
+  nlohmann::ordered_json j;
+  j["case"] = case_name;
+  j["case_source"] = case_source;
+  j["status"] = s.status;
+  if (!s.error.empty()) j["error"] = s.error;
+  j["backend"] = s.backend;
+  j["precision"] = s.precision;
+  j["threads"] = s.threads;
+  j["wall_time_s"] = s.wall_time_s;
+  j["simulated_time_s"] = s.simulated_time_s;
+  j["steps"] = s.steps;
+  j["dt_s"] = s.dt;
+  j["neighbour_rebuilds"] = s.neighbour_rebuilds;
+  j["particles"] = {{"dem_spheres", s.particles}, {"sph", 0}};
+  j["charge_mass_kg"] = s.charge_mass_kg;
+  j["stages"] = stages;
+  nlohmann::ordered_json mem;
+  std::size_t total = 0;
+  for (const auto& [k, v] : memory) {
+    mem[k] = v;
+    total += v;
+  }
+  mem["total"] = total;
+  j["memory_bytes"] = mem;
+  if (s.angle_valid) {
+    j["angle_of_repose_deg"] = s.angle_of_repose_deg;
+    j["angle_of_repose_stderr_deg"] = s.angle_stderr_deg;
+  } else {
+    j["angle_of_repose_deg"] = nullptr;
+  }
+  j["angle_frames"] = s.angle_frames;
+  j["angle_points"] = s.angle_points;
+  j["power_W"] = s.power_W;
+  j["torque_Nm"] = s.torque_Nm;
+  j["omega_rad_s"] = s.omega_rad_s;
+  j["energy"] = {{"kinetic_J", s.energy_kinetic},     {"potential_J", s.energy_potential},
+                 {"dissipated_J", s.energy_dissipated}, {"work_in_J", s.energy_work_in},
+                 {"elastic_J", s.energy_elastic},     {"budget_residual_J", s.energy_residual}};
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+ProgressLine::ProgressLine(bool enabled, double t_end) : m_enabled(enabled), m_t_end(t_end) {
+  m_start = m_last = std::chrono::steady_clock::now();
+}
+
+void ProgressLine::update(double t, long long steps) {
+  if (!m_enabled) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (m_t_start < 0) {
+    m_t_start = t;
+    m_steps_start = steps;
+  }
+  if (std::chrono::duration<double>(now - m_last).count() < 0.5) return;
+  m_last = now;
+  const double wall = std::chrono::duration<double>(now - m_start).count();
+  const double rate = wall > 0 ? (steps - m_steps_start) / wall : 0;
+  const double frac = (t - m_t_start) / std::max(1e-12, m_t_end - m_t_start);
+  const double eta = frac > 0 ? wall * (1 - frac) / frac : 0;
+  const int em = static_cast<int>(eta) / 60, es = static_cast<int>(eta) % 60;
+  std::fprintf(stderr, "\r t = %.3f / %.3f s  %3.0f%%  %.0f steps/s  ETA %d:%02d   ", t, m_t_end, 100 * t / m_t_end,
+               rate, em, es);
+  std::fflush(stderr);
+}
+
+void ProgressLine::finish() {
+  if (m_enabled) std::fprintf(stderr, "\n");
+}
+
+}  // namespace millsim::sim

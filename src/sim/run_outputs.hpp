@@ -1,0 +1,44 @@
+#pragma once
+// Writers for what a run leaves in OUT/: series.csv (one row per series interval, flushed so a
+// crash loses nothing written), summary.json, and the progress line on a terminal.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "millsim/sim/simulation.hpp"
+
+namespace millsim::sim {
+
+class SeriesWriter {
+ public:
+  SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append);
+  void row(const std::vector<double>& values);
+
+ private:
+  std::ofstream m_out;
+};
+
+void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
+                      const std::map<std::string, std::size_t>& memory, const std::string& case_name,
+                      const std::string& case_source);
+
+// "\r t = 3.20 / 12.00 s  27%  41200 steps/s  ETA 0:21" on stderr, at most every 0.5 s.
+class ProgressLine {
+ public:
+  ProgressLine(bool enabled, double t_end);
+  void update(double t, long long steps);
+  void finish();
+
+ private:
+  bool m_enabled;
+  double m_t_end;
+  std::chrono::steady_clock::time_point m_start, m_last;
+  double m_t_start = -1;
+  long long m_steps_start = 0;
+};
+
+}  // namespace millsim::sim

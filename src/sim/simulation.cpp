@@ -1,0 +1,415 @@
+// The time loop of a drum case and its observers (series, fields, frames for the angle of
+// repose, checkpoints, progress). Physics lives in the DEM engine; this file only schedules.
+#include "millsim/sim/simulation.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "dem/dem_engine.hpp"
+#include "millsim/backend/info.hpp"
+#include "millsim/core/error.hpp"
+#include "millsim/io/fields_writer.hpp"
+#include "millsim/vision/angle_of_repose.hpp"
+#include "millsim/vision/png_io.hpp"
+#include "millsim/vision/render_discs.hpp"
+#include "sim/charge_setup.hpp"
+#include "sim/drum_motion.hpp"
+#include "sim/run_outputs.hpp"
+
+namespace millsim::sim {
+
+namespace fs = std::filesystem;
+
+struct Simulation::Impl {
+  scene::Scene scene;
+  RunOptions options;
+  ChargeSetup charge;
+  std::unique_ptr<DrumMotion> motion;
+  std::unique_ptr<dem::DemEngine> engine;
+  RunSummary summary;
+  double dt = 0;
+  double t = 0;
+  double phi = 0;
+  long long step = 0;
+  // Angle of repose: front-view frames summed into a coverage count per pixel (heat map).
+  vision::ImageF heat_counts;
+  int frames_taken = 0;
+  double next_frame_t = 0;
+  // Steady-window bookkeeping for the mean shaft power.
+  double steady_t0 = -1, steady_work0 = 0;
+  dem::DemSums sums0;
+
+  Impl(const scene::Scene& s, const RunOptions& o) : scene(s), options(o) {
+    if (!scene.effect_dem) throw core::InputError(scene.source, 0, "the case has no <dem> element: nothing to simulate");
+    if (options.threads > 0) omp_set_num_threads(options.threads);
+    charge = buildCharge(scene);
+    const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                               scene.gravity[2] * scene.gravity[2]);
+    const double R = 0.5 * scene.drum.diameter;
+    const double rpm = scene.drum.critical_fraction > 0
+                           ? scene.drum.critical_fraction * criticalSpeedRpm(R, charge.mean_radius, g)
+                           : scene.drum.speed_rpm;
+    motion = std::make_unique<DrumMotion>(scene, charge.generation_length, rpm);
+    dt = chooseTimeStep();
+    engine = makeEngine();
+    engine->setState(charge.state);
+    if (!options.restart.empty()) restoreCheckpoint();
+    engine->initialize(motion->at(t, phi));
+    sums0 = engine->sums();
+    if (!options.restart.empty()) sums0 = restoredSums0;
+    if (scene.angle.enabled && heat_counts.pixels.empty()) {
+      const auto [w, h] = frameSize();
+      heat_counts = vision::ImageF(w, h, 0.0f);
+    }
+  }
+
+  dem::DemSums restoredSums0;
+
+  double chooseTimeStep() const {
+    if (scene.time.dt_mode == "fixed") return scene.time.dt_fixed;
+    // Shortest Hertz contact: the smallest balls at the reference impact speed, ball-ball
+    // (R* = r/2, m* = m/2) and ball-wall (R* = r, m* = factor * m). dt = t_c / N.
+    const double e_star = dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
+    const double r = charge.min_radius, m = scene.dem.density * 4.0 / 3.0 * std::acos(-1.0) * r * r * r;
+    const double v = scene.dem.impact_velocity;
+    const double factor = dem::wallMassFactor(dem::dampingModelFromName(scene.dem.damping));
+    const double tc = std::min(dem::hertzContactTime(0.5 * m, 0.5 * r, e_star, v),
+                               dem::hertzContactTime(factor * m, r, e_star, v));
+    return tc / scene.time.dt_divisor;
+  }
+
+  std::unique_ptr<dem::DemEngine> makeEngine() const {
+    dem::DemSetup setup;
+    const auto model = dem::dampingModelFromName(scene.dem.damping);
+    setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
+    setup.alpha = dem::dampingAlpha(model, scene.dem.restitution);
+    setup.wall_mass_factor = dem::wallMassFactor(model);
+    setup.friction = scene.dem.friction;
+    setup.tanh_smoothing = scene.dem.friction_smoothing == "tanh";
+    setup.gravity = scene.gravity;
+    setup.skin = 0.2 * charge.min_radius;
+    setup.max_radius = charge.max_radius;
+    const double R = 0.5 * scene.drum.diameter, margin = 2 * charge.max_radius;
+    setup.domain_lo = {-R - margin, -R - margin, -margin};
+    setup.domain_hi = {R + margin, R + margin, charge.generation_length + margin};
+    const bool single = options.precision == "float";
+    std::string backend = options.backend;
+    if (backend == "auto") backend = backend::cudaDevices() > 0 ? "cuda" : "omp";
+    if (backend == "cuda") {
+#if defined(MILLSIM_HAVE_CUDA)
+      if (backend::cudaDevices() == 0) throw core::InputError("--backend cuda: no CUDA device found on this machine");
+      return dem::makeDemEngineCuda(setup, single);
+#else
+      throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
+#endif
+    }
+    if (backend != "omp") throw core::InputError("--backend " + backend + ": expected auto, omp or cuda");
+    return dem::makeDemEngineOmp(setup, single);
+  }
+
+  // Front-view frame covering the drum: x in [-R, R], y in [-R, R].
+  std::pair<int, int> frameSize() const {
+    const double side_mm = scene.drum.diameter * 1000.0;
+    const int px = static_cast<int>(std::ceil(side_mm * scene.angle.pixels_per_mm));
+    return {px, px};
+  }
+
+  void captureFrame() {
+    dem::DemHostState s;
+    engine->getState(s);
+    std::vector<double> cx(s.size()), cy(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      cx[i] = s.pos[3 * i];
+      cy[i] = s.pos[3 * i + 1];
+    }
+    const double R = 0.5 * scene.drum.diameter;
+    const vision::ImageU8 mask = vision::renderDiscs(cx, cy, s.radius, -R, -R, 2 * R, 2 * R, scene.angle.pixels_per_mm);
+    for (std::size_t k = 0; k < mask.pixels.size(); ++k)
+      if (mask.pixels[k]) heat_counts.pixels[k] += 1.0f;
+    ++frames_taken;
+  }
+
+  void checkEscaped(const dem::DemHostState& s) const {
+    const double R = 0.5 * scene.drum.diameter, tol = 0.5 * charge.max_radius;
+    const double zmax = charge.generation_length;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const double x = s.pos[3 * i], y = s.pos[3 * i + 1], z = s.pos[3 * i + 2];
+      if (std::sqrt(x * x + y * y) > R + tol || z < -tol || z > zmax + tol) {
+        std::ostringstream m;
+        m << "DEM: ball " << i << " escaped the drum at t = " << t << " s, position (" << x << ", " << y << ", "
+          << z << ") m: contacts too soft for the speeds reached (raise E or lower dt)";
+        throw core::SimulationError(m.str());
+      }
+    }
+  }
+
+  void restoreCheckpoint();
+  void writeCheckpoint(const fs::path& path) const;
+  void finishAngle(const fs::path& out);
+  void fillEnergy(const dem::DemSums& now);
+  void run();
+};
+
+void Simulation::Impl::fillEnergy(const dem::DemSums& now) {
+  summary.energy_kinetic = now.kinetic;
+  summary.energy_potential = now.potential;
+  summary.energy_dissipated = now.dissipated;
+  summary.energy_work_in = now.work_in;
+  summary.energy_elastic = now.elastic;
+  summary.energy_residual = (now.work_in - sums0.work_in) -
+                            ((now.kinetic - sums0.kinetic) + (now.potential - sums0.potential) +
+                             (now.elastic - sums0.elastic) + (now.dissipated - sums0.dissipated));
+}
+
+void Simulation::Impl::finishAngle(const fs::path& out) {
+  summary.angle_frames = frames_taken;
+  if (!scene.angle.enabled || frames_taken < 2) return;
+  vision::ImageF heat = heat_counts;
+  for (auto& v : heat.pixels) v /= static_cast<float>(frames_taken);
+  vision::AngleOptions opt;
+  opt.pixels_per_mm = scene.angle.pixels_per_mm;
+  opt.threshold = scene.angle.threshold;
+  opt.smoothing_px = scene.angle.smoothing_px;
+  opt.fit_offset_mm = scene.angle.fit_offset_mm;
+  opt.fit_length_mm = scene.angle.fit_length_mm;
+  try {
+    const vision::AngleResult r = vision::angleFromHeatmap(heat, opt);
+    summary.angle_valid = true;
+    summary.angle_of_repose_deg = r.angle_deg;
+    summary.angle_stderr_deg = r.stderr_deg;
+    summary.angle_points = r.points_used;
+    if (options.write_outputs) {
+      vision::writePng(out / "angle_overlay.png", vision::renderAngleOverlay(heat, r, opt.pixels_per_mm));
+      std::ofstream edge(out / "angle_edge.csv");
+      edge << "x_mm,y_mm\n";
+      for (std::size_t k = 0; k < r.fit_x_mm.size(); ++k) edge << r.fit_x_mm[k] << "," << r.fit_y_mm[k] << "\n";
+    }
+  } catch (const std::runtime_error& e) {
+    summary.angle_valid = false;
+    summary.error = e.what();
+  }
+  if (options.write_outputs) {
+    vision::ImageU8 h8(heat.width, heat.height);
+    for (std::size_t k = 0; k < heat.pixels.size(); ++k) h8.pixels[k] = static_cast<std::uint8_t>(255.0f * heat.pixels[k]);
+    vision::writePng(out / "heatmap.png", h8);
+  }
+}
+
+void Simulation::Impl::run() {
+  const fs::path out(options.out_dir);
+  const bool restart = !options.restart.empty();
+  if (options.write_outputs) fs::create_directories(out);
+  summary = RunSummary{};
+  summary.backend = engine->backendName();
+  summary.precision = engine->precisionName();
+  summary.threads = summary.backend == std::string("omp") ? omp_get_max_threads() : 1;
+  summary.dt = dt;
+  summary.particles = charge.state.size();
+  summary.charge_mass_kg = charge.total_mass;
+  summary.omega_rad_s = std::abs(motion->fullOmega());
+
+  std::unique_ptr<SeriesWriter> series;
+  std::unique_ptr<io::FieldsWriter> fields;
+  if (options.write_outputs) {
+    series = std::make_unique<SeriesWriter>(
+        out / "series.csv",
+        std::vector<std::string>{"time_s", "kinetic_J", "potential_J", "dissipated_J", "work_in_J", "elastic_J",
+                                 "drum_torque_Nm", "power_W", "omega_rpm", "piston_z_m", "max_speed_m_s",
+                                 "energy_residual_J"},
+        restart);
+    if (scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, restart);
+  }
+  const double t_end = scene.time.end;
+  const double series_dt = scene.output.series_every, fields_dt = scene.output.fields_every;
+  const double cp_dt = scene.output.checkpoint_every;
+  double next_series = t, next_fields = t, next_cp = cp_dt > 0 ? t + cp_dt : 1e300;
+  const double frame_dt = (t_end - scene.angle.start_time) / std::max(1, scene.angle.frames);
+  next_frame_t = scene.angle.start_time + frame_dt * (frames_taken + 1);
+  const double steady_start = scene.angle.enabled ? scene.angle.start_time : scene.drum.start_time + scene.drum.spin_up;
+
+  ProgressLine progress(options.progress, t_end);
+  const auto wall0 = std::chrono::steady_clock::now();
+  const long long step0 = step;
+  auto writeFields = [&]() {
+    dem::DemHostState s;
+    engine->getState(s);
+    io::FieldFrame f;
+    f.time = t;
+    f.step = step;
+    f.count = s.size();
+    f.position.assign(s.pos.begin(), s.pos.end());
+    f.arrays.push_back({"velocity", 3, std::vector<float>(s.vel.begin(), s.vel.end())});
+    f.arrays.push_back({"angular_velocity", 3, std::vector<float>(s.omega.begin(), s.omega.end())});
+    f.arrays.push_back({"radius", 1, std::vector<float>(s.radius.begin(), s.radius.end())});
+    std::vector<float> diss(s.dissipated.begin(), s.dissipated.end());
+    f.arrays.push_back({"dissipated_energy", 1, diss});
+    fields->write(f);
+  };
+
+  try {
+    while (true) {
+      if (t >= next_series - 1e-12 * t_end) {
+        const dem::DemSums now = engine->sums();
+        dem::DemHostState s;
+        engine->getState(s);
+        checkEscaped(s);
+        fillEnergy(now);
+        const auto w = motion->at(t, phi);
+        if (series)
+          series->row({t, now.kinetic, now.potential, now.dissipated, now.work_in, now.elastic, now.drum_torque,
+                       -now.drum_torque * w.omega, std::abs(w.omega) * 60.0 / (2 * std::acos(-1.0)), w.z_back,
+                       now.max_speed, summary.energy_residual});
+        if (steady_t0 < 0 && t >= steady_start) {
+          steady_t0 = t;
+          steady_work0 = now.work_in;
+        }
+        next_series += series_dt;
+      }
+      if (fields && t >= next_fields - 1e-12 * t_end) {
+        writeFields();
+        next_fields += fields_dt;
+      }
+      if (scene.angle.enabled && t >= next_frame_t - 0.5 * dt && frames_taken < scene.angle.frames) {
+        captureFrame();
+        next_frame_t += frame_dt;
+      }
+      if (options.write_outputs && t >= next_cp - 0.5 * dt) {
+        writeCheckpoint(out / "checkpoint.h5");
+        next_cp += cp_dt;
+      }
+      if (t >= t_end - 0.5 * dt) break;
+      phi += motion->omega(t + dt) * dt;
+      engine->step(motion->at(t + dt, phi), dt);
+      t += dt;
+      ++step;
+      progress.update(t, step);
+    }
+  } catch (const core::SimulationError& e) {
+    progress.finish();
+    summary.status = "failed";
+    summary.error = e.what();
+    summary.simulated_time_s = t;
+    summary.steps = step;
+    summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    if (options.write_outputs)
+      writeSummaryJson(out / "summary.json", summary, {}, engine->memoryBytes(), scene.name, scene.source);
+    throw;
+  }
+  progress.finish();
+  summary.status = "ok";
+  summary.simulated_time_s = t;
+  summary.steps = step;
+  summary.neighbour_rebuilds = engine->neighbourRebuilds();
+  summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  (void)step0;
+  const dem::DemSums now = engine->sums();
+  fillEnergy(now);
+  if (steady_t0 >= 0 && t > steady_t0) {
+    summary.power_W = (now.work_in - steady_work0) / (t - steady_t0);
+    summary.torque_Nm = summary.omega_rad_s > 0 ? summary.power_W / summary.omega_rad_s : 0;
+  }
+  finishAngle(out);
+  if (options.write_outputs) {
+    writeCheckpoint(out / "checkpoint.h5");
+  }
+}
+
+void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
+  io::CheckpointData cp;
+  cp.time = t;
+  cp.step = step;
+  dem::DemHostState s;
+  engine->getState(s);
+  cp.reals["pos"] = s.pos;
+  cp.reals["vel"] = s.vel;
+  cp.reals["omega"] = s.omega;
+  cp.reals["radius"] = s.radius;
+  cp.reals["mass"] = s.mass;
+  cp.reals["inertia"] = s.inertia;
+  cp.reals["hist_xi"] = s.hist_xi;
+  cp.reals["dissipated"] = s.dissipated;
+  cp.reals["work_in"] = s.work_in;
+  cp.ints["hist_id"] = s.hist_id;
+  cp.scalars["phi"] = phi;
+  cp.scalars["dt"] = dt;
+  cp.scalars["steady_t0"] = steady_t0;
+  cp.scalars["steady_work0"] = steady_work0;
+  cp.scalars["frames_taken"] = frames_taken;
+  cp.scalars["e0_kinetic"] = sums0.kinetic;
+  cp.scalars["e0_potential"] = sums0.potential;
+  cp.scalars["e0_elastic"] = sums0.elastic;
+  if (!heat_counts.pixels.empty()) {
+    cp.reals["heat_counts"].assign(heat_counts.pixels.begin(), heat_counts.pixels.end());
+    cp.scalars["heat_width"] = heat_counts.width;
+    cp.scalars["heat_height"] = heat_counts.height;
+  }
+  io::writeCheckpoint(path, cp);
+}
+
+void Simulation::Impl::restoreCheckpoint() {
+  const io::CheckpointData cp = io::readCheckpoint(options.restart);
+  dem::DemHostState s;
+  auto real = [&](const char* k) {
+    auto it = cp.reals.find(k);
+    if (it == cp.reals.end()) throw core::InputError(options.restart + ": checkpoint lacks '" + k + "'");
+    return it->second;
+  };
+  s.pos = real("pos");
+  s.vel = real("vel");
+  s.omega = real("omega");
+  s.radius = real("radius");
+  s.mass = real("mass");
+  s.inertia = real("inertia");
+  s.hist_xi = real("hist_xi");
+  s.dissipated = real("dissipated");
+  s.work_in = real("work_in");
+  s.hist_id = cp.ints.at("hist_id");
+  engine->setState(s);
+  t = cp.time;
+  step = cp.step;
+  auto sc = [&](const char* k) { return cp.scalars.count(k) ? cp.scalars.at(k) : 0.0; };
+  phi = sc("phi");
+  steady_t0 = cp.scalars.count("steady_t0") ? sc("steady_t0") : -1;
+  steady_work0 = sc("steady_work0");
+  frames_taken = static_cast<int>(sc("frames_taken"));
+  restoredSums0.kinetic = sc("e0_kinetic");
+  restoredSums0.potential = sc("e0_potential");
+  restoredSums0.elastic = sc("e0_elastic");
+  if (cp.reals.count("heat_counts")) {
+    heat_counts = vision::ImageF(static_cast<int>(sc("heat_width")), static_cast<int>(sc("heat_height")));
+    const auto& h = cp.reals.at("heat_counts");
+    if (h.size() == heat_counts.pixels.size()) std::copy(h.begin(), h.end(), heat_counts.pixels.begin());
+  }
+}
+
+Simulation::Simulation(const scene::Scene& scene, const RunOptions& options)
+    : m_impl(std::make_unique<Impl>(scene, options)) {}
+Simulation::~Simulation() = default;
+
+const RunSummary& Simulation::run() {
+  m_impl->run();
+  if (m_impl->options.write_outputs)
+    writeSummaryJson(fs::path(m_impl->options.out_dir) / "summary.json", m_impl->summary, stages(), memoryReport(),
+                     m_impl->scene.name, m_impl->scene.source);
+  return m_impl->summary;
+}
+
+std::vector<std::string> Simulation::stages() const {
+  std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts", "dem_walls", "dem_kick"};
+  if (m_impl->scene.angle.enabled) s.push_back("front_view_frames");
+  return s;
+}
+
+std::map<std::string, std::size_t> Simulation::memoryReport() const { return m_impl->engine->memoryBytes(); }
+const RunSummary& Simulation::summary() const { return m_impl->summary; }
+double Simulation::timeStep() const { return m_impl->dt; }
+
+}  // namespace millsim::sim

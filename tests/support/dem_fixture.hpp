@@ -1,0 +1,76 @@
+#pragma once
+// Small DEM scenes for tests: a few balls in a huge, still drum whose front plate (z = 0) serves
+// as a flat wall. Everything goes through the real engine (the same code as `millsim run`).
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "dem/contact/damping.hpp"
+#include "dem/dem_engine.hpp"
+#include "dem/dem_kernels.hpp"
+
+namespace millsim::testing {
+
+struct Ball {
+  double x, y, z, vx, vy, vz, r;
+  double wx = 0, wy = 0, wz = 0;
+};
+
+struct DemScene {
+  double young = 1e8, poisson = 0.29, density = 7800.0;
+  double restitution = 0.5, friction = 0.0;
+  dem::DampingModel damping = dem::DampingModel::kExact;
+  std::array<double, 3> gravity{0, 0, 0};
+  bool single_precision = false;
+  bool tanh = false;
+};
+
+inline double ballMass(double r, double rho) { return rho * 4.0 / 3.0 * std::acos(-1.0) * r * r * r; }
+
+inline dem::DrumState stillDrum() {
+  dem::DrumState w;
+  w.radius = 10.0;
+  w.z_back = 20.0;
+  return w;
+}
+
+inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std::vector<Ball>& balls) {
+  dem::DemSetup setup;
+  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
+  setup.alpha = dem::dampingAlpha(sc.damping, sc.restitution);
+  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
+  setup.friction = sc.friction;
+  setup.tanh_smoothing = sc.tanh;
+  setup.gravity = sc.gravity;
+  double rmax = 0, rmin = 1e9;
+  for (const auto& b : balls) {
+    rmax = std::max(rmax, b.r);
+    rmin = std::min(rmin, b.r);
+  }
+  setup.skin = 0.2 * rmin;
+  setup.max_radius = rmax;
+  setup.domain_lo = {-1, -1, -0.1};
+  setup.domain_hi = {1, 1, 2};
+  auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
+  dem::DemHostState s;
+  for (const auto& b : balls) {
+    s.pos.insert(s.pos.end(), {b.x, b.y, b.z});
+    s.vel.insert(s.vel.end(), {b.vx, b.vy, b.vz});
+    s.omega.insert(s.omega.end(), {b.wx, b.wy, b.wz});
+    s.radius.push_back(b.r);
+    const double m = ballMass(b.r, sc.density);
+    s.mass.push_back(m);
+    s.inertia.push_back(0.4 * m * b.r * b.r);
+  }
+  engine->setState(s);
+  engine->initialize(stillDrum());
+  return engine;
+}
+
+inline dem::DemHostState state(const dem::DemEngine& e) {
+  dem::DemHostState s;
+  e.getState(s);
+  return s;
+}
+
+}  // namespace millsim::testing
