@@ -147,7 +147,7 @@ struct ElementSpec {
 struct CrossCheck {
   std::string element;
   std::string name;
-  std::string rule;                       // for the docs
+  std::string rule;                        // for the docs
   std::string (*violation)(const Scene&);  // "" when the rule holds, else "must be ..."
 };
 
@@ -202,10 +202,19 @@ AttrSpec seed(const char* element, const char* name, SeedRef ref, const char* de
   return s;
 }
 
+// Shortest text that reads back to the same double, with the exponent written the way case files
+// write it ("1e8", "1e-5", not to_chars' "1e+08").
 std::string formatNumber(double v) {
   char buf[64];
   const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
+  std::string s(buf, res.ptr);
+  const auto e = s.find('e');
+  if (e == std::string::npos) return s;
+  std::string exponent = s.substr(e + 1);
+  const bool negative = !exponent.empty() && exponent[0] == '-';
+  if (!exponent.empty() && (exponent[0] == '+' || exponent[0] == '-')) exponent.erase(0, 1);
+  exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+  return s.substr(0, e + 1) + (negative ? "-" : "") + exponent;
 }
 
 // ---- the schema --------------------------------------------------------------------------------
@@ -241,6 +250,8 @@ struct Schema {
 
 Schema buildSchema() {
   Schema s;
+  // One row per element/attribute reads as a table: keep the formatter out of it.
+  // clang-format off
   s.elements = {
       {"", true, nullptr, "Root of a case."},
       {"time", true, nullptr, "How long to simulate and how the time step is chosen."},
@@ -248,7 +259,7 @@ Schema buildSchema() {
       {"output", false, nullptr, "What is written and how often."},
       {"dem", false, [](Scene& sc) -> bool& { return sc.effect_dem; },
        "Contact material and law of the balls (walls are the same steel). Its presence enables "
-       "the DEM effect: a case without <dem> has no balls."},
+       "the DEM effect: a case without this element has no balls."},
       {"drum", true, nullptr, "The rotating drum: geometry and speed."},
       {"drum.lifters", false, nullptr, "Box lifters on the drum shell, evenly spaced."},
       {"charge", false, nullptr,
@@ -267,7 +278,8 @@ Schema buildSchema() {
            "Case name, used in outputs and messages.")
           .shownDefault("file stem"),
 
-      number("time", "end", "s", above(0), [](Scene& sc) -> double& { return sc.time.end; },
+      number("time", "end", "s", above(0),
+             [](Scene& sc) -> double& { return sc.time.end; },
              "Simulated time at which the run stops.")
           .mandatory(),
       choice("time", "dt", {"auto", "fixed"},
@@ -278,12 +290,15 @@ Schema buildSchema() {
              "N in dt = t_c / N, t_c the Hertz contact time of the stiffest pair at "
              "dem.impact_velocity."),
       number("time", "dt_fixed", "s", above(0),
-             [](Scene& sc) -> double& { return sc.time.dt_fixed; }, "Time step when dt=\"fixed\"."),
+             [](Scene& sc) -> double& { return sc.time.dt_fixed; },
+             "Time step when dt=\"fixed\"."),
 
       number("gravity", "x", "m/s^2", anyValue(),
-             [](Scene& sc) -> double& { return sc.gravity[0]; }, "Gravity, x component."),
+             [](Scene& sc) -> double& { return sc.gravity[0]; },
+             "Gravity, x component."),
       number("gravity", "y", "m/s^2", anyValue(),
-             [](Scene& sc) -> double& { return sc.gravity[1]; }, "Gravity, y component (up is +y)."),
+             [](Scene& sc) -> double& { return sc.gravity[1]; },
+             "Gravity, y component (up is +y)."),
       number("gravity", "z", "m/s^2", anyValue(),
              [](Scene& sc) -> double& { return sc.gravity[2]; },
              "Gravity, z component (along the drum axis)."),
@@ -303,7 +318,8 @@ Schema buildSchema() {
              "Young's modulus of balls and walls (paper: 1e8, reduced from steel's 2e11 for "
              "speed)."),
       number("dem", "poisson", "", range('[', 0, 0.5, ')'),
-             [](Scene& sc) -> double& { return sc.dem.poisson; }, "Poisson ratio (paper: 0.29)."),
+             [](Scene& sc) -> double& { return sc.dem.poisson; },
+             "Poisson ratio (paper: 0.29)."),
       number("dem", "density", "kg/m^3", above(0),
              [](Scene& sc) -> double& { return sc.dem.density; },
              "Ball density (paper: 7800.92, measured)."),
@@ -328,17 +344,18 @@ Schema buildSchema() {
       number("drum", "diameter", "m", above(0),
              [](Scene& sc) -> double& { return sc.drum.diameter; },
              "Inner diameter (paper: outer 300/400/500 mm, inner 8 mm smaller)."),
-      number("drum", "length", "m", above(0), [](Scene& sc) -> double& { return sc.drum.length; },
+      number("drum", "length", "m", above(0),
+             [](Scene& sc) -> double& { return sc.drum.length; },
              "Inner length between the end plates."),
       number("drum", "speed_rpm", "rpm", atLeast(0),
              [](Scene& sc) -> double& { return sc.drum.speed_rpm; },
              "Rotation speed. Give exactly one of speed_rpm and critical_fraction.")
-          .exclusive("speed", "one of speed_rpm, critical_fraction"),
+          .exclusive("speed", "required: this or critical_fraction"),
       number("drum", "critical_fraction", "", range('(', 0, 2, ']'),
              [](Scene& sc) -> double& { return sc.drum.critical_fraction; },
              "Rotation speed as a fraction of the critical speed Nc = 60/(2 pi) sqrt(g / (R - "
              "r_mean)) (paper: 0.3). Give exactly one of speed_rpm and critical_fraction.")
-          .exclusive("speed", "one of speed_rpm, critical_fraction"),
+          .exclusive("speed", "required: this or speed_rpm"),
       number("drum", "start_time", "s", atLeast(0),
              [](Scene& sc) -> double& { return sc.drum.start_time; },
              "Rotation starts (after the compaction)."),
@@ -424,6 +441,7 @@ Schema buildSchema() {
          return "must be <= charge.top_size = " + formatNumber(sc.charge.top_size) + " (m)";
        }},
   };
+  // clang-format on
   return s;
 }
 
@@ -445,6 +463,34 @@ std::string joinList(const std::vector<std::string>& items, const char* sep = ",
     out += items[i];
   }
   return out;
+}
+
+// Most unknown names are typos of a known one; naming it saves the user reading the whole list.
+std::string didYouMean(const std::string& name, const std::vector<std::string>& known) {
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t above_value = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = above_value;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  std::size_t best_distance = 3;  // more than two edits away is a different word, not a typo
+  for (const auto& k : known) {
+    const std::size_t d = distance(name, k);
+    if (d < best_distance) {
+      best_distance = d;
+      best = k;
+    }
+  }
+  return best.empty() ? "" : "; did you mean '" + best + "'?";
 }
 
 std::string unitSuffix(const std::string& unit) { return unit.empty() ? "" : " (" + unit + ")"; }
@@ -514,20 +560,36 @@ std::string malformedXmlText(const XMLDocument& doc) {
     case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
       what = "cannot parse an attribute (missing quotes or '=', or the same attribute twice)";
       break;
-    case tinyxml2::XML_ERROR_PARSING_TEXT: what = "cannot parse text"; break;
-    case tinyxml2::XML_ERROR_PARSING_CDATA: what = "unterminated CDATA section"; break;
-    case tinyxml2::XML_ERROR_PARSING_COMMENT: what = "unterminated comment"; break;
-    case tinyxml2::XML_ERROR_PARSING_DECLARATION: what = "cannot parse the <?xml ...?> line"; break;
-    case tinyxml2::XML_ERROR_PARSING_UNKNOWN: what = "cannot parse a <!...> construct"; break;
-    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: what = "the document is empty"; break;
+    case tinyxml2::XML_ERROR_PARSING_TEXT:
+      what = "cannot parse text";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_CDATA:
+      what = "unterminated CDATA section";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_COMMENT:
+      what = "unterminated comment";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_DECLARATION:
+      what = "cannot parse the <?xml ...?> line";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_UNKNOWN:
+      what = "cannot parse a <!...> construct";
+      break;
+    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT:
+      what = "the document is empty";
+      break;
     case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
       what = "end tag does not match the open element";
       break;
     case tinyxml2::XML_ERROR_PARSING:
       what = "unexpected end of the document (an element left open?)";
       break;
-    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED: what = "elements nested too deeply"; break;
-    default: what = XMLDocument::ErrorIDToName(doc.ErrorID()); break;
+    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED:
+      what = "elements nested too deeply";
+      break;
+    default:
+      what = XMLDocument::ErrorIDToName(doc.ErrorID());
+      break;
   }
   const std::string raw = doc.ErrorStr() ? doc.ErrorStr() : "";
   const auto at = raw.find("Line number=");
@@ -558,7 +620,6 @@ class CaseReader {
     Scene scene;
     scene.source = m_source;
     scene.name = std::filesystem::path(m_source).stem().string();
-    scene.element_lines.clear();
     // Effects switched on by an element's presence are off unless the element is read.
     for (const auto& e : schema().elements)
       if (e.present) e.present(scene) = false;
@@ -576,9 +637,9 @@ class CaseReader {
     const XMLElement* root = m_doc.RootElement();
     if (!root) throw core::InputError(m_source, 1, "no root element (expected <millsim>)");
     if (std::string(root->Name()) != kRootTag)
-      throw core::InputError(m_source, root->GetLineNum(),
-                             "root element is <" + std::string(root->Name()) +
-                                 ">, expected <millsim>");
+      throw core::InputError(
+          m_source, root->GetLineNum(),
+          "root element is <" + std::string(root->Name()) + ">, expected <millsim>");
     // tinyxml2 accepts content after the root; a second root is a pasted case, not intent.
     for (const XMLNode* n = root->NextSibling(); n; n = n->NextSibling()) {
       if (const XMLElement* e = n->ToElement())
@@ -610,19 +671,18 @@ class CaseReader {
       for (const auto& e : schema().elements)
         if (!e.path.empty()) known.push_back(e.path);
       failOverride(text, "unknown element '" + element_path + "' (expected one of: " +
-                             joinList(known) + ")");
+                             joinList(known) + ")" + didYouMean(element_path, known));
     }
     const AttrSpec* attr = schema().attribute(element_path, name);
     if (!attr)
       failOverride(text, "unknown attribute '" + name + "' of <" + element_spec->tag() +
-                             "> (expected one of: " + attributeNames(element_path) + ")");
+                             "> (expected one of: " + joinList(attributeNames(element_path)) + ")" +
+                             didYouMean(name, attributeNames(element_path)));
 
     XMLElement* el = m_doc.RootElement();
-    std::string walked;
     std::stringstream segments(element_path);
     std::string segment;
     while (!element_path.empty() && std::getline(segments, segment, '.')) {
-      walked = joinPath(walked, segment);
       XMLElement* child = el->FirstChildElement(segment.c_str());
       if (!child) {
         child = m_doc.NewElement(segment.c_str());
@@ -642,10 +702,10 @@ class CaseReader {
     m_override_of[{el, name}] = text;
   }
 
-  static std::string attributeNames(const std::string& element_path) {
+  static std::vector<std::string> attributeNames(const std::string& element_path) {
     std::vector<std::string> names;
     for (const AttrSpec* a : schema().attributesOf(element_path)) names.push_back(a->name);
-    return joinList(names);
+    return names;
   }
 
   // An element-level problem: file:line, or the override that created the element.
@@ -664,13 +724,14 @@ class CaseReader {
     if (from_override != m_override_of.end()) failOverride(from_override->second, message);
     const int line = attr.GetLineNum() > 0 ? attr.GetLineNum() : el.GetLineNum();
     throw core::InputError(m_source, line,
-                           "<" + std::string(el.Name()) + " " + attr.Name() + "=\"" +
-                               attr.Value() + "\">: " + message);
+                           "<" + std::string(el.Name()) + " " + attr.Name() + "=\"" + attr.Value() +
+                               "\">: " + message);
   }
 
   void readElement(const XMLElement& el, const ElementSpec& spec, Scene& scene) {
     const std::string tag = spec.tag();
-    if (el.GetLineNum() > 0) scene.element_lines[spec.path.empty() ? kRootTag : spec.path] = el.GetLineNum();
+    if (el.GetLineNum() > 0)
+      scene.element_lines[spec.path.empty() ? kRootTag : spec.path] = el.GetLineNum();
     m_read[spec.path] = &el;
     if (spec.present) spec.present(scene) = true;
 
@@ -689,7 +750,8 @@ class CaseReader {
         const int line = a->GetLineNum() > 0 ? a->GetLineNum() : el.GetLineNum();
         throw core::InputError(m_source, line,
                                "<" + tag + ">: unknown attribute '" + a->Name() +
-                                   "' (expected one of: " + attributeNames(spec.path) + ")");
+                                   "' (expected one of: " + joinList(attributeNames(spec.path)) +
+                                   ")" + didYouMean(a->Name(), attributeNames(spec.path)));
       }
       readValue(el, *a, *attr, scene);
     }
@@ -739,14 +801,16 @@ class CaseReader {
     std::vector<std::string> names;
     for (const ElementSpec* c : children) names.push_back(c->tag());
     std::string message = "unknown element <" + child_tag + "> under <" + tag + ">";
-    message += names.empty() ? " (it takes no elements)"
-                             : " (expected one of: " + joinList(names) + ")";
+    message += names.empty()
+                   ? " (it takes no elements)"
+                   : " (expected one of: " + joinList(names) + ")" + didYouMean(child_tag, names);
     // A known element in the wrong place is a common slip: say where it belongs.
     for (const auto& e : schema().elements)
       if (!e.path.empty() && e.tag() == child_tag && e.parent() != path)
-        message += "; <" + child_tag + "> belongs under <" +
-                   (e.parent().empty() ? std::string(kRootTag) : schema().element(e.parent())->tag()) +
-                   ">";
+        message +=
+            "; <" + child_tag + "> belongs under <" +
+            (e.parent().empty() ? std::string(kRootTag) : schema().element(e.parent())->tag()) +
+            ">";
     return message;
   }
 
@@ -756,15 +820,19 @@ class CaseReader {
     switch (attr.kind) {
       case Kind::Number: {
         double v = 0.0;
-        if (!parseDouble(value, v)) failAttribute(el, a, "expected a number" + unitSuffix(attr.unit));
-        if (!attr.bounds.admits(v)) failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
+        if (!parseDouble(value, v))
+          failAttribute(el, a, "expected a number" + unitSuffix(attr.unit));
+        if (!attr.bounds.admits(v))
+          failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
         attr.number(scene) = v;
         break;
       }
       case Kind::Integer: {
         int v = 0;
-        if (!parseInt(value, v)) failAttribute(el, a, "expected an integer" + unitSuffix(attr.unit));
-        if (!attr.bounds.admits(v)) failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
+        if (!parseInt(value, v))
+          failAttribute(el, a, "expected an integer" + unitSuffix(attr.unit));
+        if (!attr.bounds.admits(v))
+          failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
         attr.integer(scene) = v;
         break;
       }
@@ -839,12 +907,18 @@ std::string markdownCell(const std::string& s) {
 
 std::string kindName(Kind k) {
   switch (k) {
-    case Kind::Number: return "number";
-    case Kind::Integer: return "integer";
-    case Kind::Flag: return "boolean";
-    case Kind::Choice: return "choice";
-    case Kind::Text: return "text";
-    case Kind::Seed: return "integer (64-bit)";
+    case Kind::Number:
+      return "number";
+    case Kind::Integer:
+      return "integer";
+    case Kind::Flag:
+      return "boolean";
+    case Kind::Choice:
+      return "choice";
+    case Kind::Text:
+      return "text";
+    case Kind::Seed:
+      return "integer (64-bit)";
   }
   return "?";
 }
@@ -852,15 +926,19 @@ std::string kindName(Kind k) {
 std::string allowedText(const AttrSpec& a) {
   switch (a.kind) {
     case Kind::Number:
-    case Kind::Integer: return boundsText(a.bounds);
-    case Kind::Flag: return "`true`, `false`";
+    case Kind::Integer:
+      return boundsText(a.bounds);
+    case Kind::Flag:
+      return "`true`, `false`";
     case Kind::Choice: {
       std::vector<std::string> quoted;
       for (const auto& c : a.choices) quoted.push_back("`" + c + "`");
       return joinList(quoted);
     }
-    case Kind::Text: return "non-empty";
-    case Kind::Seed: return "[0, 2^64 - 1]";
+    case Kind::Text:
+      return "non-empty";
+    case Kind::Seed:
+      return "[0, 2^64 - 1]";
   }
   return "";
 }
@@ -869,12 +947,17 @@ std::string defaultText(const AttrSpec& a) {
   if (!a.default_note.empty()) return a.default_note;
   Scene defaults;
   switch (a.kind) {
-    case Kind::Number: return formatNumber(a.number(defaults));
-    case Kind::Integer: return std::to_string(a.integer(defaults));
-    case Kind::Flag: return a.flag(defaults) ? "true" : "false";
+    case Kind::Number:
+      return formatNumber(a.number(defaults));
+    case Kind::Integer:
+      return std::to_string(a.integer(defaults));
+    case Kind::Flag:
+      return a.flag(defaults) ? "true" : "false";
     case Kind::Choice:
-    case Kind::Text: return a.text(defaults);
-    case Kind::Seed: return std::to_string(a.seed(defaults));
+    case Kind::Text:
+      return a.text(defaults);
+    case Kind::Seed:
+      return std::to_string(a.seed(defaults));
   }
   return "";
 }
@@ -914,9 +997,9 @@ std::string describeCaseFormat() {
   md << "\n| Attribute (`--set` path) | Type | Unit | Default | Allowed | Description |\n"
      << "|---|---|---|---|---|---|\n";
   for (const auto& a : s.attributes)
-    md << "| `" << a.path() << "` | " << kindName(a.kind) << " | " << (a.unit.empty() ? "-" : a.unit)
-       << " | " << markdownCell(defaultText(a)) << " | " << markdownCell(allowedText(a)) << " | "
-       << markdownCell(a.description) << " |\n";
+    md << "| `" << a.path() << "` | " << kindName(a.kind) << " | "
+       << (a.unit.empty() ? "-" : a.unit) << " | " << markdownCell(defaultText(a)) << " | "
+       << markdownCell(allowedText(a)) << " | " << markdownCell(a.description) << " |\n";
   md << "\nRules over more than one attribute:\n\n";
   std::map<std::string, std::vector<std::string>> groups;
   for (const auto& a : s.attributes)

@@ -150,9 +150,15 @@ TEST(CaseXml, PaperCaseValuesLandInScene) {
 
   const std::string text = readFile(path);
   const std::vector<std::pair<std::string, std::string>> keys = {
-      {"millsim", "<millsim "}, {"time", "<time "},     {"gravity", "<gravity "},
-      {"output", "<output "},   {"dem", "<dem "},       {"drum", "<drum "},
-      {"drum.lifters", "<lifters "}, {"charge", "<charge "}, {"compaction", "<compaction "},
+      {"millsim", "<millsim "},
+      {"time", "<time "},
+      {"gravity", "<gravity "},
+      {"output", "<output "},
+      {"dem", "<dem "},
+      {"drum", "<drum "},
+      {"drum.lifters", "<lifters "},
+      {"charge", "<charge "},
+      {"compaction", "<compaction "},
       {"angle_of_repose", "<angle_of_repose "}};
   EXPECT_EQ(s.element_lines.size(), keys.size());
   for (const auto& [key, needle] : keys) {
@@ -267,14 +273,16 @@ TEST(CaseXmlErrors, MalformedXmlGivesTheLineOfTheError) {
   EXPECT_EQ(twice.what.find("Error="), std::string::npos) << "tinyxml2's raw text leaked";
 
   const Failure mismatch = textFailure(small("  </drum>", "  </drun>"));
-  EXPECT_EQ(mismatch.what, "t.xml:4: malformed XML: end tag does not match the open element in <drum>");
+  EXPECT_EQ(mismatch.what,
+            "t.xml:4: malformed XML: end tag does not match the open element in <drum>");
 
   const Failure empty = textFailure("");
   EXPECT_EQ(empty.what, "t.xml:1: malformed XML: the document is empty");
 }
 
 TEST(CaseXmlErrors, RootAndStrayContent) {
-  EXPECT_EQ(textFailure("<case>\n</case>\n").what, "t.xml:1: root element is <case>, expected <millsim>");
+  EXPECT_EQ(textFailure("<case>\n</case>\n").what,
+            "t.xml:1: root element is <case>, expected <millsim>");
   EXPECT_EQ(textFailure(std::string(kSmall) + "<millsim/>\n").what,
             "t.xml:8: unexpected element <millsim> after </millsim> (a case has one root)");
   EXPECT_EQ(textFailure(small("<dem/>", "<dem>1e8</dem>")).what,
@@ -317,14 +325,17 @@ TEST(CaseXmlErrors, UnknownAttribute) {
   const Failure f = textFailure(small("<dem/>", "<dem/>\n  <charge filing=\"0.3\"/>"));
   EXPECT_EQ(f.what,
             "t.xml:4: <charge>: unknown attribute 'filing' (expected one of: filling, top_size, "
-            "min_size, size_step, bond_exponent, seed, count)");
+            "min_size, size_step, bond_exponent, seed, count); did you mean 'filling'?");
+  // No hint when nothing is close.
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem colour=\"red\"/>")).what.find("did you mean"),
+            std::string::npos);
 }
 
 TEST(CaseXmlErrors, UnknownElement) {
   const Failure f = textFailure(small("<dem/>", "<drums/>"));
   EXPECT_EQ(f.what,
             "t.xml:3: unknown element <drums> under <millsim> (expected one of: time, gravity, "
-            "output, dem, drum, charge, compaction, angle_of_repose)");
+            "output, dem, drum, charge, compaction, angle_of_repose); did you mean 'drum'?");
   const Failure misplaced = textFailure(small("<dem/>", "<lifters/>"));
   EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos)
       << misplaced.what;
@@ -376,8 +387,9 @@ TEST(CaseXmlErrors, IntegerWithDecimals) {
 TEST(CaseXmlErrors, CrossFieldChecks) {
   EXPECT_EQ(textFailure(small("height=\"0.004\"", "height=\"0.025\"")).what,
             "t.xml:5: <lifters height=\"0.025\">: must be < drum.diameter / 4 = 0.025 (m)");
-  EXPECT_EQ(textFailure(small("<dem/>", "<dem/><charge top_size=\"0.01\" min_size=\"0.02\"/>")).what,
-            "t.xml:3: <charge min_size=\"0.02\">: must be <= charge.top_size = 0.01 (m)");
+  EXPECT_EQ(
+      textFailure(small("<dem/>", "<dem/><charge top_size=\"0.01\" min_size=\"0.02\"/>")).what,
+      "t.xml:3: <charge min_size=\"0.02\">: must be <= charge.top_size = 0.01 (m)");
   // A default that a changed attribute invalidates is blamed on the element it belongs in.
   EXPECT_EQ(textFailure(small("<dem/>", "<dem/><charge top_size=\"0.01\"/>")).what,
             "t.xml:3: charge.min_size = 0.015 (default): must be <= charge.top_size = 0.01 (m)");
@@ -406,8 +418,8 @@ TEST(CaseXmlOverrides, CreateMissingElements) {
   std::string xml = kSmall;
   xml.replace(xml.find("  <dem/>\n"), 9, "");
   xml.replace(xml.find("    <lifters count=\"4\" height=\"0.004\"/>\n"), 41, "");
-  const Scene s = loadCaseText(xml, "t.xml",
-                               {"charge.count=7", "drum.lifters.count=2", "dem.friction=0.3"});
+  const Scene s =
+      loadCaseText(xml, "t.xml", {"charge.count=7", "drum.lifters.count=2", "dem.friction=0.3"});
   EXPECT_EQ(s.charge.count_override, 7);
   EXPECT_EQ(s.drum.lifters.count, 2);
   EXPECT_DOUBLE_EQ(s.dem.friction, 0.3);
@@ -426,7 +438,7 @@ TEST(CaseXmlOverrides, MissingPath) {
   const Failure attr = textFailure(kSmall, {"time.ned=2"});
   EXPECT_EQ(attr.what,
             "--set time.ned=2: unknown attribute 'ned' of <time> (expected one of: end, dt, "
-            "dt_divisor, dt_fixed)");
+            "dt_divisor, dt_fixed); did you mean 'end'?");
   EXPECT_EQ(attr.line, 0);
   const Failure element = textFailure(kSmall, {"drum.lifter.count=3"});
   EXPECT_EQ(element.what.rfind("--set drum.lifter.count=3: unknown element 'drum.lifter' "
@@ -434,6 +446,7 @@ TEST(CaseXmlOverrides, MissingPath) {
                                0),
             0u)
       << element.what;
+  EXPECT_NE(element.what.find("; did you mean 'drum.lifters'?"), std::string::npos);
   EXPECT_EQ(textFailure(kSmall, {"time.end"}).what,
             "--set time.end: expected PATH=VALUE, e.g. time.end=2 (paths: docs/case-format.md)");
 }
@@ -442,7 +455,8 @@ TEST(CaseXmlOverrides, BadValue) {
   const Failure f = textFailure(kSmall, {"time.end=abc"});
   EXPECT_EQ(f.what, "--set time.end=abc: expected a number (s)");
   EXPECT_EQ(f.line, 0);
-  EXPECT_EQ(textFailure(kSmall, {"drum.diameter=-1"}).what, "--set drum.diameter=-1: must be > 0 (m)");
+  EXPECT_EQ(textFailure(kSmall, {"drum.diameter=-1"}).what,
+            "--set drum.diameter=-1: must be > 0 (m)");
   EXPECT_EQ(textFailure(kSmall, {"dem.damping=foo"}).what,
             "--set dem.damping=foo: expected one of exact, dualsphysics");
   EXPECT_EQ(textFailure(kSmall, {"drum.lifters.height=0.03"}).what,
@@ -462,9 +476,9 @@ TEST(CaseXmlOverrides, CreatedElementStillNeedsItsRequiredAttributes) {
 TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
   const std::string md = describeCaseFormat();
   const auto paths = caseAttributePaths();
-  for (const auto& p : paths)
-    EXPECT_NE(md.find("| `" + p + "` |"), std::string::npos) << p;
+  for (const auto& p : paths) EXPECT_NE(md.find("| `" + p + "` |"), std::string::npos) << p;
   // The format of the brief, attribute by attribute: the schema has all of them and no others.
+  // clang-format off
   const std::vector<std::string> expected = {
       "name",
       "time.end", "time.dt", "time.dt_divisor", "time.dt_fixed",
@@ -482,6 +496,7 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "angle_of_repose.pixels_per_mm", "angle_of_repose.threshold",
       "angle_of_repose.smoothing_px", "angle_of_repose.fit_offset_mm",
       "angle_of_repose.fit_length_mm"};
+  // clang-format on
   EXPECT_EQ(paths, expected);
   // Defaults come from Scene, bounds and units from the schema.
   EXPECT_NE(md.find("| `dem.poisson` | number | - | 0.29 | [0, 0.5) |"), std::string::npos);
@@ -489,6 +504,15 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
   EXPECT_NE(md.find("| `dem.damping` | choice | - | exact | `exact`, `dualsphysics` |"),
             std::string::npos);
   EXPECT_NE(md.find("`drum.lifters.height` < `drum.diameter` / 4"), std::string::npos);
+}
+
+// The reference section of the user docs is the generated table: a schema change that is not
+// pasted into docs/case-format.md fails here instead of leaving the docs stale.
+TEST(CaseXmlDescribe, DocsHoldTheCurrentTable) {
+  const std::string doc =
+      readFile(std::filesystem::path(MILLSIM_SOURCE_DIR) / "docs" / "case-format.md");
+  EXPECT_NE(doc.find(describeCaseFormat()), std::string::npos)
+      << "paste the output of `millsim describe` into docs/case-format.md";
 }
 
 }  // namespace
