@@ -26,8 +26,7 @@ int runCommand(const std::string& case_path, const std::vector<std::string>& set
   const millsim::scene::Scene scene = loadScene(case_path, sets);
   millsim::sim::Simulation sim(scene, opt);
   std::fprintf(stderr, "millsim: %s: %zu balls, dt = %.3g s, backend %s, out %s\n", scene.name.c_str(),
-               static_cast<std::size_t>(sim.summary().particles), sim.timeStep(), opt.backend.c_str(),
-               opt.out_dir.c_str());
+               sim.particleCount(), sim.timeStep(), opt.backend.c_str(), opt.out_dir.c_str());
   const auto& s = sim.run();
   nlohmann::ordered_json j;
   j["status"] = s.status;
@@ -93,7 +92,12 @@ int main(int argc, char** argv) {
     }
     if (validate->parsed()) {
       const auto scene = loadScene(case_path, sets);
-      std::cout << case_path << ": ok (" << scene.name << ")" << std::endl;
+      // Building the simulation also checks what parsing cannot: that the charge fits, etc.
+      millsim::sim::RunOptions check;
+      check.write_outputs = false;
+      millsim::sim::Simulation sim(scene, check);
+      std::cout << case_path << ": ok (" << scene.name << ", " << sim.particleCount() << " balls, dt = " << sim.timeStep()
+                << " s)" << std::endl;
       return 0;
     }
     if (info->parsed()) return infoCommand();

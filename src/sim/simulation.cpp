@@ -411,5 +411,6 @@ std::vector<std::string> Simulation::stages() const {
 std::map<std::string, std::size_t> Simulation::memoryReport() const { return m_impl->engine->memoryBytes(); }
 const RunSummary& Simulation::summary() const { return m_impl->summary; }
 double Simulation::timeStep() const { return m_impl->dt; }
+std::size_t Simulation::particleCount() const { return m_impl->charge.state.size(); }
 
 }  // namespace millsim::sim

@@ -54,6 +54,7 @@ class Simulation {
   std::map<std::string, std::size_t> memoryReport() const;
   const RunSummary& summary() const;
   double timeStep() const;
+  std::size_t particleCount() const;
 
  private:
   struct Impl;
