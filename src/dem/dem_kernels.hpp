@@ -128,14 +128,18 @@ struct ComputeForces {
     Vec3<T> old_xi[kHistorySlots];
     int new_id[kHistorySlots];
     Vec3<T> new_xi[kHistorySlots];
-    for (int s = 0; s < kHistorySlots; ++s) {
-      old_id[s] = out.hist_id[i * kHistorySlots + s];
-      old_xi[s] = out.hist_xi[i * kHistorySlots + s];
+    // The table is kept compact (used slots first, then kNoPartner), so only the used slots
+    // are read and written: a ball has ~3-6 contacts, not 16.
+    int n_old = 0;
+    while (n_old < kHistorySlots && out.hist_id[i * kHistorySlots + n_old] != kNoPartner) {
+      old_id[n_old] = out.hist_id[i * kHistorySlots + n_old];
+      old_xi[n_old] = out.hist_xi[i * kHistorySlots + n_old];
+      ++n_old;
     }
     int n_new = 0;
     bool overflow = false;
     auto spring = [&](int key) {
-      for (int s = 0; s < kHistorySlots; ++s)
+      for (int s = 0; s < n_old; ++s)
         if (old_id[s] == key) return old_xi[s];
       return core::zero3<T>();
     };
@@ -196,7 +200,8 @@ struct ComputeForces {
       power_in += core::dot(c.force, w.velocity);
     });
 
-    for (int s = 0; s < kHistorySlots; ++s) {
+    const int n_write = n_new > n_old ? n_new : n_old;
+    for (int s = 0; s < n_write; ++s) {
       out.hist_id[i * kHistorySlots + s] = s < n_new ? new_id[s] : kNoPartner;
       out.hist_xi[i * kHistorySlots + s] = s < n_new ? new_xi[s] : core::zero3<T>();
     }

@@ -13,6 +13,11 @@ struct Omp {
   static constexpr const char* kName = "omp";
 };
 
+// Below this many indices a loop runs on one thread: a lab drum has ~200-400 balls, where the
+// fork/join of a parallel region costs more than the loop (and oversubscribed spinning threads
+// cost far more).
+inline constexpr int kOmpParallelThreshold = 2048;
+
 // Owning array in the execution space's memory (host memory for OpenMP).
 template <class Space, class T>
 class Array;
@@ -37,7 +42,7 @@ class Array<Omp, T> {
 
 template <class F>
 void parallelFor(Omp, int n, const F& f) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kOmpParallelThreshold)
   for (int i = 0; i < n; ++i) f(i);
 }
 
@@ -45,7 +50,7 @@ void parallelFor(Omp, int n, const F& f) {
 template <class R, class F>
 R reduceSum(Omp, int n, const F& f) {
   R total = R(0);
-#pragma omp parallel for schedule(static) reduction(+ : total)
+#pragma omp parallel for schedule(static) reduction(+ : total) if (n >= kOmpParallelThreshold)
   for (int i = 0; i < n; ++i) total += f(i);
   return total;
 }
@@ -53,7 +58,7 @@ R reduceSum(Omp, int n, const F& f) {
 template <class R, class F>
 R reduceMax(Omp, int n, R init, const F& f) {
   R best = init;
-#pragma omp parallel for schedule(static) reduction(max : best)
+#pragma omp parallel for schedule(static) reduction(max : best) if (n >= kOmpParallelThreshold)
   for (int i = 0; i < n; ++i) best = std::max(best, f(i));
   return best;
 }
