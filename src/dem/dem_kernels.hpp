@@ -32,20 +32,7 @@ struct ParticleView {
   const T* inv_inertia;
 };
 
-// First half-kick and drift of velocity Verlet: v += dt/2 a, x += dt v.
-template <class T>
-struct KickDrift {
-  ParticleView<T> p;
-  T dt;
-  MILLSIM_HD void operator()(int i) const {
-    const T h = T(0.5) * dt;
-    p.vel[i] += (h * p.inv_mass[i]) * p.force[i];
-    p.omega[i] += (h * p.inv_inertia[i]) * p.torque[i];
-    p.pos[i] += dt * p.vel[i];
-  }
-};
-
-// Second half-kick: v += dt/2 a(t + dt).
+// Half-kick of velocity Verlet: v += dt/2 a, w += dt/2 alpha.
 template <class T>
 struct Kick {
   ParticleView<T> p;
@@ -54,6 +41,17 @@ struct Kick {
     const T h = T(0.5) * dt;
     p.vel[i] += (h * p.inv_mass[i]) * p.force[i];
     p.omega[i] += (h * p.inv_inertia[i]) * p.torque[i];
+  }
+};
+
+// First half-kick and drift: v += dt/2 a(t), x += dt v.
+template <class T>
+struct KickDrift {
+  ParticleView<T> p;
+  T dt;
+  MILLSIM_HD void operator()(int i) const {
+    Kick<T>{p, dt}(i);
+    p.pos[i] += dt * p.vel[i];
   }
 };
 
