@@ -1,0 +1,63 @@
+// DEM throughput: particle-steps per second of the drum engine for a settled-ish random charge
+// of N equal balls in a rotating drum (OpenMP). Run: build/bench/millsim_bench.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+
+#include "dem/contact/damping.hpp"
+#include "dem/dem_engine.hpp"
+
+using namespace millsim;
+
+static void BM_DemDrumStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const double r = 0.005;
+  // Drum sized for ~25% solid fraction of the balls.
+  const double vol = n * 4.0 / 3.0 * M_PI * r * r * r / 0.25;
+  const double R = std::cbrt(vol / (2 * M_PI)), L = 2 * R;
+  dem::DemSetup setup;
+  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(1e8, 0.29);
+  setup.alpha = dem::dampingAlpha(dem::DampingModel::kExact, 0.39);
+  setup.friction = 0.5;
+  setup.skin = 0.2 * r;
+  setup.max_radius = r;
+  setup.domain_lo = {-R - 2 * r, -R - 2 * r, -2 * r};
+  setup.domain_hi = {R + 2 * r, R + 2 * r, L + 2 * r};
+  dem::DemHostState s;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double a = (R - r) / std::sqrt(2.0), c = 2.05 * r;
+  for (double z = r; z < L - r && static_cast<int>(s.radius.size()) < n; z += c)
+    for (double y = -a; y < a && static_cast<int>(s.radius.size()) < n; y += c)
+      for (double x = -a; x < a && static_cast<int>(s.radius.size()) < n; x += c) {
+        s.pos.insert(s.pos.end(), {x, y, z});
+        s.vel.insert(s.vel.end(), {0.1 * (u(rng) - 0.5), 0.1 * (u(rng) - 0.5), 0.0});
+        s.omega.insert(s.omega.end(), {0, 0, 0});
+        s.radius.push_back(r);
+        const double m = 7800 * 4.0 / 3.0 * M_PI * r * r * r;
+        s.mass.push_back(m);
+        s.inertia.push_back(0.4 * m * r * r);
+      }
+  auto engine = dem::makeDemEngineOmp(setup, state.range(1) != 0);
+  engine->setState(s);
+  dem::DrumState drum;
+  drum.radius = R;
+  drum.z_back = L;
+  drum.omega = -2.0;
+  drum.lifter_count = 8;
+  drum.lifter_height = r;
+  drum.lifter_width = r;
+  engine->initialize(drum);
+  const double dt = 1e-5;
+  for (auto _ : state) {
+    drum.phi += drum.omega * dt;
+    engine->step(drum, dt);
+  }
+  state.counters["particles"] = static_cast<double>(s.radius.size());
+  state.counters["particle_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(s.radius.size()) * state.iterations(), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_DemDrumStep)->Args({1000, 0})->Args({10000, 0})->Args({10000, 1})->Args({50000, 0})->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();
