@@ -58,6 +58,7 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
     j["angle_of_repose_stderr_deg"] = s.angle_stderr_deg;
   } else {
     j["angle_of_repose_deg"] = nullptr;
+    if (!s.angle_error.empty()) j["angle_error"] = s.angle_error;
   }
   j["angle_frames"] = s.angle_frames;
   j["angle_points"] = s.angle_points;

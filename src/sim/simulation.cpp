@@ -194,7 +194,7 @@ void Simulation::Impl::finishAngle(const fs::path& out) {
     }
   } catch (const std::runtime_error& e) {
     summary.angle_valid = false;
-    summary.error = e.what();
+    summary.angle_error = e.what();
   }
   if (options.write_outputs) {
     vision::ImageU8 h8(heat.width, heat.height);
@@ -237,7 +237,6 @@ void Simulation::Impl::run() {
 
   ProgressLine progress(options.progress, t_end);
   const auto wall0 = std::chrono::steady_clock::now();
-  const long long step0 = step;
   auto writeFields = [&]() {
     dem::DemHostState s;
     engine->getState(s);
@@ -309,7 +308,6 @@ void Simulation::Impl::run() {
   summary.steps = step;
   summary.neighbour_rebuilds = engine->neighbourRebuilds();
   summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  (void)step0;
   const dem::DemSums now = engine->sums();
   fillEnergy(now);
   if (steady_t0 >= 0 && t > steady_t0) {
@@ -403,7 +401,7 @@ const RunSummary& Simulation::run() {
 }
 
 std::vector<std::string> Simulation::stages() const {
-  std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts", "dem_walls", "dem_kick"};
+  std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts_and_walls", "dem_kick"};
   if (m_impl->scene.angle.enabled) s.push_back("front_view_frames");
   return s;
 }

@@ -33,6 +33,7 @@ struct RunSummary {
   double angle_of_repose_deg = 0, angle_stderr_deg = 0;
   int angle_frames = 0, angle_points = 0;
   bool angle_valid = false;
+  std::string angle_error;  // why no angle could be measured (too few surface points, ...)
   double power_W = 0, torque_Nm = 0, omega_rad_s = 0;
   double energy_kinetic = 0, energy_potential = 0, energy_dissipated = 0, energy_work_in = 0, energy_elastic = 0;
   double energy_residual = 0;  // work_in - (dKE + dPE + elastic + dissipated)
