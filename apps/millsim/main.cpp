@@ -4,12 +4,15 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
+#include "millsim/io/particle_dump.hpp"
+#include "millsim/vision/front_view_angle.hpp"
 #include "millsim/sim/simulation.hpp"
 
 namespace {
@@ -38,6 +41,34 @@ int runCommand(const std::string& case_path, const std::vector<std::string>& set
     j["angle_of_repose_deg"] = nullptr;
   j["power_W"] = s.power_W;
   j["summary"] = opt.out_dir + "/summary.json";
+  std::cout << j.dump() << std::endl;
+  return 0;
+}
+
+struct DumpAngleArgs {
+  std::vector<std::string> dumps;
+  double diameter = 0.292;
+  double start_timestep = -1;
+  millsim::vision::AngleOptions angle;
+  std::string out;
+};
+
+// Angle of repose of another code's particle dumps through millsim's own front-view pipeline.
+int angleFromDumpsCommand(const DumpAngleArgs& a) {
+  millsim::vision::FrontViewAngle angle(a.diameter, a.angle);
+  for (const auto& file : a.dumps)
+    for (const auto& f : millsim::io::readParticleDump(file))
+      if (f.timestep >= a.start_timestep) angle.addFrame(f.x, f.y, f.radius);
+  const millsim::vision::AngleResult r = angle.measure();
+  if (!a.out.empty()) {
+    std::filesystem::create_directories(a.out);
+    angle.writeImages(a.out, &r);
+  }
+  nlohmann::ordered_json j;
+  j["angle_deg"] = r.angle_deg;
+  j["stderr_deg"] = r.stderr_deg;
+  j["frames"] = angle.frames();
+  j["points"] = r.points_used;
   std::cout << j.dump() << std::endl;
   return 0;
 }
@@ -82,6 +113,18 @@ int main(int argc, char** argv) {
   validate->add_option("--set", sets, "Override an attribute: element.path.attribute=value (repeatable)");
 
   auto* info = app.add_subcommand("info", "Version, backends, GPU");
+
+  DumpAngleArgs dump_args;
+  auto* dump_angle = app.add_subcommand(
+      "angle-from-dumps", "Angle of repose from LAMMPS/LIGGGHTS text dumps (drum axis z, gravity -y), same pipeline as run");
+  dump_angle->add_option("--dumps", dump_args.dumps, "Dump files (dump custom with x y z radius)")->required()->check(CLI::ExistingFile);
+  dump_angle->add_option("--diameter", dump_args.diameter, "Inner drum diameter [m]")->capture_default_str();
+  dump_angle->add_option("--from-timestep", dump_args.start_timestep, "Ignore frames before this timestep");
+  dump_angle->add_option("--pixels-per-mm", dump_args.angle.pixels_per_mm, "Image scale")->capture_default_str();
+  dump_angle->add_option("--threshold", dump_args.angle.threshold, "Heat-map threshold")->capture_default_str();
+  dump_angle->add_option("--fit-offset-mm", dump_args.angle.fit_offset_mm, "Fit starts this far right of the highest point")
+      ->capture_default_str();
+  dump_angle->add_option("--out", dump_args.out, "Write heatmap.png, angle_overlay.png, angle_edge.csv here");
   auto* describe = app.add_subcommand("describe", "Print every case-file element and attribute (markdown)");
 
   CLI11_PARSE(app, argc, argv);
@@ -101,6 +144,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (info->parsed()) return infoCommand();
+    if (dump_angle->parsed()) return angleFromDumpsCommand(dump_args);
     if (describe->parsed()) {
       std::cout << millsim::io::describeCaseFormat();
       return 0;

@@ -17,9 +17,7 @@
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
-#include "millsim/vision/angle_of_repose.hpp"
-#include "millsim/vision/png_io.hpp"
-#include "millsim/vision/render_discs.hpp"
+#include "millsim/vision/front_view_angle.hpp"
 #include "sim/charge_setup.hpp"
 #include "sim/drum_motion.hpp"
 #include "sim/run_outputs.hpp"
@@ -39,9 +37,8 @@ struct Simulation::Impl {
   double t = 0;
   double phi = 0;
   long long step = 0;
-  // Angle of repose: front-view frames summed into a coverage count per pixel (heat map).
-  vision::ImageF heat_counts;
-  int frames_taken = 0;
+  // Angle of repose: front-view frames summed into a heat map.
+  std::unique_ptr<vision::FrontViewAngle> angle;
   double next_frame_t = 0;
   // Steady-window bookkeeping for the mean shaft power.
   double steady_t0 = -1, steady_work0 = 0;
@@ -58,6 +55,7 @@ struct Simulation::Impl {
                            ? scene.drum.critical_fraction * criticalSpeedRpm(R, charge.mean_radius, g)
                            : scene.drum.speed_rpm;
     motion = std::make_unique<DrumMotion>(scene, charge.generation_length, rpm);
+    if (scene.angle.enabled) angle = std::make_unique<vision::FrontViewAngle>(scene.drum.diameter, angleOptions());
     dt = chooseTimeStep();
     engine = makeEngine();
     engine->setState(charge.state);
@@ -65,10 +63,6 @@ struct Simulation::Impl {
     engine->initialize(motion->at(t, phi));
     sums0 = engine->sums();
     if (!options.restart.empty()) sums0 = restoredSums0;
-    if (scene.angle.enabled && heat_counts.pixels.empty()) {
-      const auto [w, h] = frameSize();
-      heat_counts = vision::ImageF(w, h, 0.0f);
-    }
   }
 
   dem::DemSums restoredSums0;
@@ -115,11 +109,14 @@ struct Simulation::Impl {
     return dem::makeDemEngineOmp(setup, single);
   }
 
-  // Front-view frame covering the drum: x in [-R, R], y in [-R, R].
-  std::pair<int, int> frameSize() const {
-    const double side_mm = scene.drum.diameter * 1000.0;
-    const int px = static_cast<int>(std::ceil(side_mm * scene.angle.pixels_per_mm));
-    return {px, px};
+  vision::AngleOptions angleOptions() const {
+    vision::AngleOptions opt;
+    opt.pixels_per_mm = scene.angle.pixels_per_mm;
+    opt.threshold = scene.angle.threshold;
+    opt.smoothing_px = scene.angle.smoothing_px;
+    opt.fit_offset_mm = scene.angle.fit_offset_mm;
+    opt.fit_length_mm = scene.angle.fit_length_mm;
+    return opt;
   }
 
   void captureFrame() {
@@ -130,11 +127,7 @@ struct Simulation::Impl {
       cx[i] = s.pos[3 * i];
       cy[i] = s.pos[3 * i + 1];
     }
-    const double R = 0.5 * scene.drum.diameter;
-    const vision::ImageU8 mask = vision::renderDiscs(cx, cy, s.radius, -R, -R, 2 * R, 2 * R, scene.angle.pixels_per_mm);
-    for (std::size_t k = 0; k < mask.pixels.size(); ++k)
-      if (mask.pixels[k]) heat_counts.pixels[k] += 1.0f;
-    ++frames_taken;
+    angle->addFrame(cx, cy, s.radius);
   }
 
   void checkEscaped(const dem::DemHostState& s) const {
@@ -170,37 +163,20 @@ void Simulation::Impl::fillEnergy(const dem::DemSums& now) {
 }
 
 void Simulation::Impl::finishAngle(const fs::path& out) {
-  summary.angle_frames = frames_taken;
-  if (!scene.angle.enabled || frames_taken < 2) return;
-  vision::ImageF heat = heat_counts;
-  for (auto& v : heat.pixels) v /= static_cast<float>(frames_taken);
-  vision::AngleOptions opt;
-  opt.pixels_per_mm = scene.angle.pixels_per_mm;
-  opt.threshold = scene.angle.threshold;
-  opt.smoothing_px = scene.angle.smoothing_px;
-  opt.fit_offset_mm = scene.angle.fit_offset_mm;
-  opt.fit_length_mm = scene.angle.fit_length_mm;
+  summary.angle_frames = angle ? angle->frames() : 0;
+  if (!angle) return;
+  vision::AngleResult r;
   try {
-    const vision::AngleResult r = vision::angleFromHeatmap(heat, opt);
+    r = angle->measure();
     summary.angle_valid = true;
     summary.angle_of_repose_deg = r.angle_deg;
     summary.angle_stderr_deg = r.stderr_deg;
     summary.angle_points = r.points_used;
-    if (options.write_outputs) {
-      vision::writePng(out / "angle_overlay.png", vision::renderAngleOverlay(heat, r, opt.pixels_per_mm));
-      std::ofstream edge(out / "angle_edge.csv");
-      edge << "x_mm,y_mm\n";
-      for (std::size_t k = 0; k < r.fit_x_mm.size(); ++k) edge << r.fit_x_mm[k] << "," << r.fit_y_mm[k] << "\n";
-    }
   } catch (const std::runtime_error& e) {
     summary.angle_valid = false;
     summary.angle_error = e.what();
   }
-  if (options.write_outputs) {
-    vision::ImageU8 h8(heat.width, heat.height);
-    for (std::size_t k = 0; k < heat.pixels.size(); ++k) h8.pixels[k] = static_cast<std::uint8_t>(255.0f * heat.pixels[k]);
-    vision::writePng(out / "heatmap.png", h8);
-  }
+  if (options.write_outputs) angle->writeImages(out, summary.angle_valid ? &r : nullptr);
 }
 
 void Simulation::Impl::run() {
@@ -232,7 +208,7 @@ void Simulation::Impl::run() {
   const double cp_dt = scene.output.checkpoint_every;
   double next_series = t, next_fields = t, next_cp = cp_dt > 0 ? t + cp_dt : 1e300;
   const double frame_dt = (t_end - scene.angle.start_time) / std::max(1, scene.angle.frames);
-  next_frame_t = scene.angle.start_time + frame_dt * (frames_taken + 1);
+  next_frame_t = scene.angle.start_time + frame_dt * ((angle ? angle->frames() : 0) + 1);
   const double steady_start = scene.angle.enabled ? scene.angle.start_time : scene.drum.start_time + scene.drum.spin_up;
 
   ProgressLine progress(options.progress, t_end);
@@ -276,7 +252,7 @@ void Simulation::Impl::run() {
         writeFields();
         next_fields += fields_dt;
       }
-      if (scene.angle.enabled && t >= next_frame_t - 0.5 * dt && frames_taken < scene.angle.frames) {
+      if (angle && t >= next_frame_t - 0.5 * dt && angle->frames() < scene.angle.frames) {
         captureFrame();
         next_frame_t += frame_dt;
       }
@@ -340,14 +316,15 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
   cp.scalars["dt"] = dt;
   cp.scalars["steady_t0"] = steady_t0;
   cp.scalars["steady_work0"] = steady_work0;
-  cp.scalars["frames_taken"] = frames_taken;
   cp.scalars["e0_kinetic"] = sums0.kinetic;
   cp.scalars["e0_potential"] = sums0.potential;
   cp.scalars["e0_elastic"] = sums0.elastic;
-  if (!heat_counts.pixels.empty()) {
-    cp.reals["heat_counts"].assign(heat_counts.pixels.begin(), heat_counts.pixels.end());
-    cp.scalars["heat_width"] = heat_counts.width;
-    cp.scalars["heat_height"] = heat_counts.height;
+  if (angle && angle->frames() > 0) {
+    const auto& heat = angle->accumulator();
+    cp.ints["heat_counts"].assign(heat.counts().begin(), heat.counts().end());
+    cp.scalars["heat_width"] = heat.width();
+    cp.scalars["heat_height"] = heat.height();
+    cp.scalars["heat_frames"] = heat.frames();
   }
   io::writeCheckpoint(path, cp);
 }
@@ -377,14 +354,13 @@ void Simulation::Impl::restoreCheckpoint() {
   phi = sc("phi");
   steady_t0 = cp.scalars.count("steady_t0") ? sc("steady_t0") : -1;
   steady_work0 = sc("steady_work0");
-  frames_taken = static_cast<int>(sc("frames_taken"));
   restoredSums0.kinetic = sc("e0_kinetic");
   restoredSums0.potential = sc("e0_potential");
   restoredSums0.elastic = sc("e0_elastic");
-  if (cp.reals.count("heat_counts")) {
-    heat_counts = vision::ImageF(static_cast<int>(sc("heat_width")), static_cast<int>(sc("heat_height")));
-    const auto& h = cp.reals.at("heat_counts");
-    if (h.size() == heat_counts.pixels.size()) std::copy(h.begin(), h.end(), heat_counts.pixels.begin());
+  if (angle && cp.ints.count("heat_counts")) {
+    const auto& h = cp.ints.at("heat_counts");
+    angle->accumulator().restore(static_cast<int>(sc("heat_width")), static_cast<int>(sc("heat_height")),
+                                 static_cast<int>(sc("heat_frames")), std::vector<std::uint32_t>(h.begin(), h.end()));
   }
 }
 

@@ -35,4 +35,13 @@ ImageF HeatmapAccumulator::heatmap() const {
   return heat;
 }
 
+void HeatmapAccumulator::restore(int width, int height, int frames, std::vector<std::uint32_t> counts) {
+  if (counts.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+    throw std::invalid_argument("heat map restore: counts do not match the image size");
+  m_width = width;
+  m_height = height;
+  m_frames = frames;
+  m_counts = std::move(counts);
+}
+
 }  // namespace millsim::vision

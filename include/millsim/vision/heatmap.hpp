@@ -22,6 +22,13 @@ class HeatmapAccumulator {
   // empty (0 x 0) image, since no size is known yet.
   ImageF heatmap() const;
 
+  // Raw per-pixel counts, and the inverse: what a checkpoint stores so a restarted run keeps the
+  // frames it already took.
+  int width() const { return m_width; }
+  int height() const { return m_height; }
+  const std::vector<std::uint32_t>& counts() const { return m_counts; }
+  void restore(int width, int height, int frames, std::vector<std::uint32_t> counts);
+
  private:
   int m_width = 0;
   int m_height = 0;
