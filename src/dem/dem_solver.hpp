@@ -2,6 +2,7 @@
 // DemSolver<Space, T>: owns the DEM arrays in the execution space's memory and runs the step
 // functors of dem_kernels.hpp through the backend. Written once; instantiated for OpenMP in
 // dem_solver_omp.cpp and for CUDA in backend/cuda/dem_solver_cuda.cu.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -213,9 +214,25 @@ class DemSolver final : public DemEngine {
     }
   }
 
-  DrumWalls<T> drumWalls(const DrumState& w) const {
-    return {T(w.radius), T(w.z_back), T(w.v_back),     T(w.omega),        T(w.phi),
-            T(w.phase0), w.lifter_count, T(w.lifter_height), T(w.lifter_width)};
+  static DrumWalls<T> drumWalls(const DrumState& w) {
+    if (w.lifter_count > kMaxLifters)
+      throw core::InputError("drum: " + std::to_string(w.lifter_count) + " lifters, at most " +
+                             std::to_string(kMaxLifters) + " are supported");
+    DrumWalls<T> d{};
+    d.radius = T(w.radius);
+    d.z_back = T(w.z_back);
+    d.v_back = T(w.v_back);
+    d.omega = T(w.omega);
+    d.lifter_count = w.lifter_count;
+    d.lifter_height = T(w.lifter_height);
+    d.lifter_width = T(w.lifter_width);
+    const double spacing = 2.0 * std::acos(-1.0) / std::max(1, w.lifter_count);
+    for (int k = 0; k < w.lifter_count; ++k) {
+      const double a = w.phi + w.phase0 + k * spacing;
+      d.lifter_cos[k] = T(std::cos(a));
+      d.lifter_sin[k] = T(std::sin(a));
+    }
+    return d;
   }
 
   template <class Law>

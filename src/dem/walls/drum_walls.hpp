@@ -24,17 +24,21 @@ struct WallContact {
   core::Vec3<T> velocity;   // wall velocity at the contact point
 };
 
+// Lifter directions are precomputed on the host once per step (N sincos) and carried in the
+// functor, so the per-ball wall test has no trigonometry; the kernel parameter stays small.
+inline constexpr int kMaxLifters = 64;
+
 template <class T>
 struct DrumWalls {
   T radius;        // R, inner cylinder radius
   T z_back;        // back plate position
   T v_back;        // back plate velocity along z
   T omega;         // rad/s about +z
-  T phi;           // drum rotation angle (lifter k sits at phi + phase0 + k 2 pi / N)
-  T phase0;
   int lifter_count;
   T lifter_height;
   T lifter_width;
+  T lifter_cos[kMaxLifters];  // direction of lifter k's centre line: angle phi + phase0 + k 2 pi / N
+  T lifter_sin[kMaxLifters];
 
   MILLSIM_HD core::Vec3<T> rotationVelocity(core::Vec3<T> p) const { return {-omega * p.y, omega * p.x, T(0)}; }
 
@@ -65,17 +69,22 @@ struct DrumWalls {
   template <class F>
   MILLSIM_HD void lifterContacts(core::Vec3<T> p, T r, F&& f) const {
     using core::Vec3;
-    const T two_pi = T(6.283185307179586);
-    const T spacing = two_pi / T(lifter_count);
-    const T rel = std::atan2(p.y, p.x) - phi - phase0;
-    const int nearest = static_cast<int>(std::floor(rel / spacing + T(0.5)));
+    // Nearest lifter by angle = largest projection of the ball centre on the lifter directions.
+    int nearest = 0;
+    T best = -T(1e30);
+    for (int k = 0; k < lifter_count; ++k) {
+      const T proj = p.x * lifter_cos[k] + p.y * lifter_sin[k];
+      if (proj > best) {
+        best = proj;
+        nearest = k;
+      }
+    }
     // The nearest lifter and its two neighbours: enough unless lifters are closer than a ball.
     const int first = lifter_count >= 3 ? -1 : 0, last = lifter_count >= 3 ? 1 : lifter_count - 1;
     for (int dk = first; dk <= last; ++dk) {
       int k = (nearest + dk) % lifter_count;
       if (k < 0) k += lifter_count;
-      const T a = phi + phase0 + T(k) * spacing;
-      const Vec3<T> er{std::cos(a), std::sin(a), T(0)};
+      const Vec3<T> er{lifter_cos[k], lifter_sin[k], T(0)};
       const Vec3<T> et{-er.y, er.x, T(0)};
       const T u = p.x * er.x + p.y * er.y, v = p.x * et.x + p.y * et.y;
       const T u0 = radius - lifter_height, hw = T(0.5) * lifter_width;
