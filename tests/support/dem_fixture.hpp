@@ -1,6 +1,8 @@
 #pragma once
 // Small DEM scenes for tests: a few balls in a huge, still drum whose front plate (z = 0) serves
 // as a flat wall. Everything goes through the real engine (the same code as `millsim run`).
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -49,8 +51,18 @@ inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std:
   }
   setup.skin = 0.2 * rmin;
   setup.max_radius = rmax;
-  setup.domain_lo = {-1, -1, -0.1};
-  setup.domain_hi = {1, 1, 2};
+  // Grid over the balls' box plus a margin: balls that leave it are clamped into border cells,
+  // which keeps the search exact, and a small grid keeps rebuilds cheap.
+  std::array<double, 3> lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  for (const auto& b : balls) {
+    const double p[3] = {b.x, b.y, b.z};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a] - 0.05);
+      hi[a] = std::max(hi[a], p[a] + 0.05);
+    }
+  }
+  setup.domain_lo = lo;
+  setup.domain_hi = hi;
   auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
   dem::DemHostState s;
   for (const auto& b : balls) {
