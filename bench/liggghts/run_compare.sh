@@ -6,7 +6,9 @@
 #   bench/liggghts/run_compare.sh [RUN_DIR]      (default /tmp/millsim_liggghts)
 #
 # Environment: MILLSIM (default build/apps/millsim/millsim), LIGGGHTS (default: liggghts on
-# PATH, installed with apt-get if missing). Takes a few minutes. See bench/liggghts/README.md.
+# PATH, installed with apt-get if missing), LIGGGHTS_WALLS = moving (default: every drum mesh
+# turned by fix move/mesh) or axisym (only the lifters turn; see walls_axisym.in).
+# Takes a few minutes. See bench/liggghts/README.md.
 set -euo pipefail
 
 HERE=$(cd "$(dirname "$0")" && pwd)
@@ -20,6 +22,7 @@ if [ -z "${LIGGGHTS:-}" ] && ! command -v liggghts >/dev/null; then
   apt-get update -qq && apt-get install -y -q liggghts >"$RUN/apt.log"
 fi
 LIGGGHTS=${LIGGGHTS:-liggghts}
+WALLS=${LIGGGHTS_WALLS:-moving}
 command -v h5dump >/dev/null || apt-get install -y -q hdf5-tools >>"$RUN/apt.log"
 
 # 1. millsim places and compacts the charge (t = 0..2 s). Keep a copy of the t = 2 s checkpoint:
@@ -38,7 +41,7 @@ echo "      $CONV"
 PHI=$(sed -n 's/.*phi=\([^ ]*\).*/\1/p' <<<"$CONV")
 FIRST_FRAME=$(sed -n 's/.*first_frame=\([^ ]*\).*/\1/p' <<<"$CONV")
 python3 "$HERE/make_meshes.py" "$RUN/liggghts/meshes" --phi="$PHI"
-cp "$HERE/in.drum" "$RUN/liggghts/"
+cp "$HERE/in.drum" "$HERE"/walls_*.in "$RUN/liggghts/"
 
 # 3. millsim continues from the checkpoint (t = 2..12 s). One simulation at a time, one thread.
 echo "[3/5] millsim t = 2..12 s"
@@ -46,8 +49,8 @@ echo "[3/5] millsim t = 2..12 s"
   >"$RUN/millsim.json"
 
 # 4. LIGGGHTS, serial (no mpirun: a single process is its own MPI world).
-echo "[4/5] LIGGGHTS t = 2..12 s"
-(cd "$RUN/liggghts" && "$LIGGGHTS" -in in.drum -log log.liggghts -echo none >screen.txt)
+echo "[4/5] LIGGGHTS t = 2..12 s (walls: $WALLS)"
+(cd "$RUN/liggghts" && "$LIGGGHTS" -var walls "$WALLS" -in in.drum -log log.liggghts -echo none >screen.txt)
 
 # 5. LIGGGHTS angle through millsim's pipeline, from the last 100 frames (t = 4.08..12 s, the
 #    frame times millsim uses).
@@ -55,9 +58,9 @@ echo "[5/5] angle of repose of the LIGGGHTS dumps"
 "$MILLSIM" angle-from-dumps --dumps "$RUN"/liggghts/dumps/dump.*.txt --diameter 0.292 --pixels-per-mm 2 \
   --from-timestep "$FIRST_FRAME" --out "$RUN/liggghts/angle" >"$RUN/liggghts_angle.json"
 
-python3 - "$RUN" <<'EOF'
+python3 - "$RUN" "$WALLS" <<'EOF'
 import json, re, sys
-run = sys.argv[1]
+run, walls_mode = sys.argv[1], sys.argv[2]
 m = json.load(open(f"{run}/millsim.json"))
 ms = json.load(open(f"{run}/millsim_t2/summary.json"))
 m0 = json.load(open(f"{run}/millsim_0_2.json"))
@@ -82,8 +85,8 @@ f = lambda x, p: "n/a" if x is None else f"{x:.{p}f}"
 print(f"\n{version}")
 print(f"balls: millsim {n}, LIGGGHTS {l_n}; steps: millsim {m_steps}, LIGGGHTS {l_steps}; "
       f"LIGGGHTS frames for the angle: {la['frames']}")
-print(f"LIGGGHTS Modify (mesh walls etc.): {modify[1] if modify else 'n/a'} % of its loop time "
-      f"(wall/gran + move/mesh + mesh neighbour lists: {walls:.1f} %)\n")
+print(f"LIGGGHTS walls: {walls_mode}; Modify: {modify[1] if modify else 'n/a'} % of its loop time "
+      f"(of which wall/gran + move/mesh + mesh neighbour lists: {walls:.1f} %)\n")
 print(f"{'code':10} {'angle [deg]':>11} {'stderr':>7} {'wall 10 s [s]':>14} {'wall s/sim s':>13} {'particle-steps/s/core':>22}")
 for c, a, e, w, s, ps in rows:
     print(f"{c:10} {f(a, 2):>11} {f(e, 2):>7} {w:14.2f} {w / s:13.3f} {ps:22.4g}")
