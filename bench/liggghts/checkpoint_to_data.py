@@ -6,6 +6,9 @@ library is needed (h5py and numpy are not installed on the bench machine). Value
 with 17 significant digits so the LIGGGHTS state is the millsim state to the last bit.
 
 Usage: checkpoint_to_data.py CHECKPOINT.h5 OUTDIR [--t-end 12] [--frames 100] [--frame-dt 0.08]
+                             [--steps N] [--box XLO XHI YLO YHI ZLO ZHI]
+--steps runs exactly N steps instead of up to --t-end; --box sets the (fixed) simulation box,
+by default the one around the 300 mm drum.
 Writes OUTDIR/balls.data (atom_style granular: Atoms and Velocities with angular velocities)
 and OUTDIR/vars.in (dt, number of steps, first timestep, dump interval, first dumped frame).
 """
@@ -33,6 +36,8 @@ def main():
     ap.add_argument("--t-end", type=float, default=12.0)
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--frame-dt", type=float, default=0.08)
+    ap.add_argument("--steps", type=int, default=0, help="> 0: run this many steps (not to --t-end)")
+    ap.add_argument("--box", type=float, nargs=6, default=[-0.16, 0.16, -0.16, 0.16, -0.01, 0.11])
     a = ap.parse_args()
 
     t0 = h5(a.checkpoint, "/time", True)[0]
@@ -47,7 +52,7 @@ def main():
     with open(os.path.join(a.outdir, "balls.data"), "w") as f:
         f.write(f"millsim checkpoint {a.checkpoint} at t = {t0!r} s\n\n{n} atoms\n1 atom types\n\n")
         # Fixed box a little larger than the drum: every mesh node must stay inside it.
-        f.write("-0.16 0.16 xlo xhi\n-0.16 0.16 ylo yhi\n-0.01 0.11 zlo zhi\n\nAtoms\n\n")
+        f.write("%r %r xlo xhi\n%r %r ylo yhi\n%r %r zlo zhi\n\nAtoms\n\n" % tuple(a.box))
         for i in range(n):
             # granular: id type diameter density x y z. The density is taken from millsim's own
             # mass so both codes integrate exactly the same masses.
@@ -60,7 +65,7 @@ def main():
     # Time bookkeeping. LIGGGHTS dumps on timesteps that are multiples of the dump interval, so
     # the run starts at a timestep chosen to put the last step (t_end) on such a multiple; the
     # frames then sit at t_end, t_end - frame_dt, ... like millsim's (start + k frame_dt).
-    nrun = round((a.t_end - t0) / dt)
+    nrun = a.steps if a.steps > 0 else round((a.t_end - t0) / dt)
     every = round(a.frame_dt / dt)
     step0 = (-nrun) % every
     first_frame = step0 + nrun - (a.frames - 1) * every

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write the 300 mm millsim drum as ASCII STL meshes for LIGGGHTS (fix mesh/surface).
+"""Write a millsim drum (default: the 300 mm case) as ASCII STL meshes for LIGGGHTS (fix mesh/surface).
 
 Geometry (docs/cases.md, src/dem/walls/drum_walls.hpp): axis z through the origin, inner
 radius R, end plates at z = 0 and z = L, N box lifters of radial height h and tangential width
@@ -11,13 +11,15 @@ an edge with another part: LIGGGHTS checks mesh topology per mesh, and separate 
 T-junctions where the lifters stand on the cylinder.
 
 Usage: make_meshes.py OUTDIR [--phi RAD] [--facets 180]
+                       [--radius R --length L --lifters N --lifter-height H --lifter-width W]
+The geometry options default to the 300 mm case (constants below).
 """
 import argparse
 import math
 import os
 
-R, L = 0.146, 0.1         # inner radius, length [m]
-N_LIFT, H, W = 8, 0.005, 0.005
+R0, L0 = 0.146, 0.1       # defaults: inner radius, length [m] of the 300 mm case,
+N_LIFT0, H0, W0 = 8, 0.005, 0.005   # and its lifters (count, height, width)
 
 
 def write_stl(path, name, tris):
@@ -46,7 +48,13 @@ def main():
     ap.add_argument("outdir")
     ap.add_argument("--phi", type=float, default=0.0, help="drum angle of the meshes [rad]")
     ap.add_argument("--facets", type=int, default=180, help="facets around the cylinder")
+    ap.add_argument("--radius", type=float, default=R0, help="inner drum radius [m]")
+    ap.add_argument("--length", type=float, default=L0, help="inner drum length [m]")
+    ap.add_argument("--lifters", type=int, default=N_LIFT0, help="number of lifters")
+    ap.add_argument("--lifter-height", type=float, default=H0, help="radial lifter height [m]")
+    ap.add_argument("--lifter-width", type=float, default=W0, help="tangential lifter width [m]")
     a = ap.parse_args()
+    R, L, N_LIFT, H, W = a.radius, a.length, a.lifters, a.lifter_height, a.lifter_width
     os.makedirs(a.outdir, exist_ok=True)
     n = a.facets
 
