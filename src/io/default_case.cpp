@@ -30,7 +30,7 @@ const char* defaultCaseXml() {
               calibrated restitution 0.390 and kinetic friction 0.496 (section 4)
     timeline  12 s: a piston pushes the loose charge into the drum during the first 2 s,
               then 10 s of rotation; the first 2 s are not analysed (section 3.8.1)
-  Our choices, not in the paper (see docs/cases.md): inner length 0.1 m, lifter width 5 mm,
+  Our choices, not in the paper (see docs/cases.md): inner length 0.15 m, lifter width 5 mm,
   time step from the Hertz contact time (the paper used a fixed step), exact damping for the
   restitution, and the angle of repose measured from 4 s on over 100 frames.
   Format of this file: docs/case-format.md.
@@ -41,7 +41,7 @@ const char* defaultCaseXml() {
   <output series_every="0.01" fields_every="0.5" checkpoint_every="1"/>
   <dem youngs_modulus="1e8" poisson="0.29" density="7800.92" restitution="0.390"
        friction="0.496" damping="exact" friction_smoothing="none" impact_velocity="2"/>
-  <drum diameter="0.292" length="0.1" speed_rpm="24.8" start_time="2" spin_up="0">
+  <drum diameter="0.292" length="0.15" speed_rpm="24.8" start_time="2" spin_up="0">
     <lifters count="8" height="0.005" width="0.005"/>
   </drum>
   <charge filling="0.3" top_size="0.035" min_size="0.015" size_step="0.005" bond_exponent="3.8"
