@@ -48,6 +48,8 @@ struct DemSums {
   double elastic = 0;      // normal elastic energy stored in contacts now, J
   double drum_torque = 0;  // moment of the charge on the drum about +z now, N m
   double max_speed = 0;    // m/s
+  double mass = 0;         // kg, total
+  double com_x = 0, com_y = 0;  // centre of mass in the front view, m (the gravity moment's arm)
 };
 
 class DemEngine {

@@ -31,6 +31,16 @@ struct PotentialEnergy {
 };
 
 template <class T>
+struct MassMoment {
+  ParticleView<T> p;
+  int axis;
+  MILLSIM_HD double operator()(int i) const {
+    const Vec3<T> x = p.pos[i];
+    return double(p.mass[i]) * double(axis == 0 ? x.x : x.y);
+  }
+};
+
+template <class T>
 struct ReadDouble {
   const double* v;
   MILLSIM_HD double operator()(int i) const { return v[i]; }
@@ -172,6 +182,11 @@ class DemSolver final : public DemEngine {
     s.elastic = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_elastic.data()});
     s.drum_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_drum_torque.data()});
     s.max_speed = backend::reduceMax<double>(Space{}, m_n, 0.0, Speed<T>{m_vel.data()});
+    s.mass = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_mass.data()});
+    if (s.mass > 0) {
+      s.com_x = backend::reduceSum<double>(Space{}, m_n, MassMoment<T>{p, 0}) / s.mass;
+      s.com_y = backend::reduceSum<double>(Space{}, m_n, MassMoment<T>{p, 1}) / s.mass;
+    }
     return s;
   }
 

@@ -199,7 +199,7 @@ void Simulation::Impl::run() {
         out / "series.csv",
         std::vector<std::string>{"time_s", "kinetic_J", "potential_J", "dissipated_J", "work_in_J", "elastic_J",
                                  "drum_torque_Nm", "power_W", "omega_rpm", "piston_z_m", "max_speed_m_s",
-                                 "energy_residual_J"},
+                                 "energy_residual_J", "com_x_m", "com_y_m"},
         restart);
     if (scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, restart);
   }
@@ -241,7 +241,7 @@ void Simulation::Impl::run() {
         if (series)
           series->row({t, now.kinetic, now.potential, now.dissipated, now.work_in, now.elastic, now.drum_torque,
                        -now.drum_torque * w.omega, std::abs(w.omega) * 60.0 / (2 * std::acos(-1.0)), w.z_back,
-                       now.max_speed, summary.energy_residual});
+                       now.max_speed, summary.energy_residual, now.com_x, now.com_y});
         if (steady_t0 < 0 && t >= steady_start) {
           steady_t0 = t;
           steady_work0 = now.work_in;
