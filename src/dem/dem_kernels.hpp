@@ -1,8 +1,8 @@
 #pragma once
 // The DEM step as MILLSIM_HD functors over particle indices, run by backend::parallelFor on
-// OpenMP or CUDA: the same code on both. Each particle computes the force on itself from every
-// neighbour (a full neighbour list), so no atomics are needed and results do not depend on the
-// thread schedule; both sides of a pair evaluate the same law with mirrored inputs.
+// OpenMP or CUDA: the same code on both. Each pair is evaluated once, by its lower-index particle
+// (pass 1, which also does the walls), and its partner gathers the result from a per-slot pair
+// buffer (pass 2): no atomics, and results do not depend on the thread schedule.
 #include "dem/contact/hertz.hpp"
 #include "dem/walls/drum_walls.hpp"
 #include "millsim/core/vec3.hpp"
@@ -96,6 +96,28 @@ struct BuildNeighbourList {
   }
 };
 
+// For each neighbour-list slot (i, k) with partner j < i: the slot m at which i appears in j's
+// list. The pair is evaluated once, by its owner min(i, j); the other side reads the result there.
+struct BuildMirrorIndex {
+  const int* count;
+  const int* list;
+  int* mirror;
+  int capacity;
+  MILLSIM_HD void operator()(int i) const {
+    const int nc = count[i] < capacity ? count[i] : capacity;
+    for (int k = 0; k < nc; ++k) {
+      const int j = list[i * capacity + k];
+      int m = -1;
+      if (j < i) {
+        const int nj = count[j] < capacity ? count[j] : capacity;
+        for (int s = 0; s < nj && m < 0; ++s)
+          if (list[j * capacity + s] == i) m = s;
+      }
+      mirror[i * capacity + k] = m;
+    }
+  }
+};
+
 template <class T>
 struct ContactOutputs {
   int* hist_id;
@@ -107,14 +129,30 @@ struct ContactOutputs {
   int* history_overflow;
 };
 
-// Contact forces on particle i from its neighbours and the drum walls, gravity included.
+// One entry per neighbour-list slot, written by the pair's owner (the lower index) and read by
+// the partner: the force on the owner, n x F_t (both torques are -a (n x F_t) with each side's
+// lever a = r - delta/2), the overlap (0: no contact) and the pair's dissipation rate and elastic
+// energy (booked half to each side).
+template <class T>
+struct PairBuffer {
+  Vec3<T>* force;
+  Vec3<T>* n_cross_ft;
+  T* delta;
+  T* dissipation_rate;
+  T* elastic;
+};
+
+// Pass 1 of the forces, per particle i: gravity, the drum walls, and every pair i owns (partner
+// j > i), evaluated once with the contact law; the result also goes to the pair buffer for j.
+// Contact history lives with the owner only, keyed by partner (j, or -1 - wall id).
 template <class T, class Law>
-struct ComputeForces {
+struct OwnedContactForces {
   ParticleView<T> p;
   const int* nbr_count;
   const int* nbr_list;
   int nbr_capacity;
   ContactOutputs<T> out;
+  PairBuffer<T> pairs;
   DrumWalls<T> walls;
   Law law;
   T wall_mass_factor;
@@ -127,7 +165,7 @@ struct ComputeForces {
     int new_id[kHistorySlots];
     Vec3<T> new_xi[kHistorySlots];
     // The table is kept compact (used slots first, then kNoPartner), so only the used slots
-    // are read and written: a ball has ~3-6 contacts, not 16.
+    // are read and written: a ball owns ~2-4 contacts, not 16.
     int n_old = 0;
     while (n_old < kHistorySlots && out.hist_id[i * kHistorySlots + n_old] != kNoPartner) {
       old_id[n_old] = out.hist_id[i * kHistorySlots + n_old];
@@ -159,7 +197,10 @@ struct ComputeForces {
 
     const int nc = nbr_count[i] < nbr_capacity ? nbr_count[i] : nbr_capacity;
     for (int k = 0; k < nc; ++k) {
-      const int j = nbr_list[i * nbr_capacity + k];
+      const int slot = i * nbr_capacity + k;
+      const int j = nbr_list[slot];
+      if (j < i) continue;  // owned by j
+      pairs.delta[slot] = T(0);
       const Vec3<T> d = xi_pos - p.pos[j];
       const T rj = p.radius[j];
       const T reach = ri + rj;
@@ -176,10 +217,16 @@ struct ComputeForces {
       Vec3<T> s = spring(j);
       const ContactResult<T> c = law(n, delta, r_star, m_star, v_rel, s, dt);
       keep(j, s);
+      const Vec3<T> nxft = core::cross(n, c.force_t);
       f += c.force;
-      tq += core::cross((-ai) * n, c.force_t);
+      tq -= ai * nxft;
       diss_rate += T(0.5) * c.dissipation_rate;  // the partner books the other half
       elastic += T(0.5) * c.elastic_energy;
+      pairs.force[slot] = c.force;
+      pairs.n_cross_ft[slot] = nxft;
+      pairs.delta[slot] = delta;
+      pairs.dissipation_rate[slot] = c.dissipation_rate;
+      pairs.elastic[slot] = c.elastic_energy;
     }
 
     walls.forEachContact(xi_pos, ri, [&](const WallContact<T>& w) {
@@ -210,6 +257,43 @@ struct ComputeForces {
     out.work_in[i] += double(power_in) * double(dt);
     out.elastic[i] = elastic;
     out.drum_torque[i] = drum_tq;
+  }
+};
+
+// Pass 2, per particle i: adds the pairs owned by lower-index partners (read at the mirror slot,
+// force reversed). Each particle writes only its own sums: no atomics, same result on any
+// thread schedule or on the GPU.
+template <class T>
+struct GatherPartnerForces {
+  ParticleView<T> p;
+  const int* nbr_count;
+  const int* nbr_list;
+  const int* mirror;
+  int nbr_capacity;
+  ContactOutputs<T> out;
+  PairBuffer<T> pairs;
+  T dt;
+
+  MILLSIM_HD void operator()(int i) const {
+    const T ri = p.radius[i];
+    Vec3<T> f = core::zero3<T>(), tq = core::zero3<T>();
+    T diss_rate = T(0), elastic = T(0);
+    const int nc = nbr_count[i] < nbr_capacity ? nbr_count[i] : nbr_capacity;
+    for (int k = 0; k < nc; ++k) {
+      const int j = nbr_list[i * nbr_capacity + k];
+      if (j > i) continue;
+      const int e = j * nbr_capacity + mirror[i * nbr_capacity + k];
+      const T delta = pairs.delta[e];
+      if (delta <= T(0)) continue;
+      f -= pairs.force[e];
+      tq -= (ri - T(0.5) * delta) * pairs.n_cross_ft[e];
+      diss_rate += T(0.5) * pairs.dissipation_rate[e];
+      elastic += T(0.5) * pairs.elastic[e];
+    }
+    p.force[i] += f;
+    p.torque[i] += tq;
+    out.dissipated[i] += double(diss_rate) * double(dt);
+    out.elastic[i] += elastic;
   }
 };
 

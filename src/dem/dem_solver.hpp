@@ -118,7 +118,7 @@ class DemSolver final : public DemEngine {
     m_drum_torque.resize(n, T(0));
     m_overflow.resize(n, 0);
     m_nbr_count.resize(n, 0);
-    m_nbr_list.resize(n * static_cast<std::size_t>(m_nbr_capacity), 0);
+    resizePairArrays();
   }
 
   void getState(DemHostState& s) const override {
@@ -195,7 +195,9 @@ class DemSolver final : public DemEngine {
                                   m_radius.bytes() + m_mass.bytes() + m_inv_mass.bytes() + m_inv_inertia.bytes()},
             {"dem.contact_history", m_hist_id.bytes() + m_hist_xi.bytes() + m_overflow.bytes()},
             {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes()},
-            {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_list.bytes() + m_pos_ref.bytes()}};
+            {"dem.pair_buffer", m_pair_force.bytes() + m_pair_nxft.bytes() + m_pair_delta.bytes() + m_pair_diss.bytes() +
+                                    m_pair_elastic.bytes()},
+            {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_list.bytes() + m_mirror.bytes() + m_pos_ref.bytes()}};
   }
 
   std::int64_t neighbourRebuilds() const override { return m_rebuilds; }
@@ -225,8 +227,20 @@ class DemSolver final : public DemEngine {
       // Rare (a dense clump of small balls around a large one): grow outside the step loop's
       // steady state and rebuild.
       m_nbr_capacity = most + 8;
-      m_nbr_list.resize(static_cast<std::size_t>(m_n) * m_nbr_capacity, 0);
+      resizePairArrays();
     }
+    backend::parallelFor(Space{}, m_n, BuildMirrorIndex{m_nbr_count.data(), m_nbr_list.data(), m_mirror.data(), m_nbr_capacity});
+  }
+
+  void resizePairArrays() {
+    const std::size_t slots = static_cast<std::size_t>(m_n) * m_nbr_capacity;
+    m_nbr_list.resize(slots, 0);
+    m_mirror.resize(slots, -1);
+    m_pair_force.resize(slots, core::zero3<T>());
+    m_pair_nxft.resize(slots, core::zero3<T>());
+    m_pair_delta.resize(slots, T(0));
+    m_pair_diss.resize(slots, T(0));
+    m_pair_elastic.resize(slots, T(0));
   }
 
   static DrumWalls<T> drumWalls(const DrumState& w) {
@@ -254,10 +268,15 @@ class DemSolver final : public DemEngine {
   void launchForces(const DrumState& walls, T dt, Law law) {
     ContactOutputs<T> out{m_hist_id.data(), m_hist_xi.data(), m_dissipated.data(), m_work_in.data(),
                           m_elastic.data(), m_drum_torque.data(), m_overflow.data()};
+    PairBuffer<T> pairs{m_pair_force.data(), m_pair_nxft.data(), m_pair_delta.data(), m_pair_diss.data(),
+                        m_pair_elastic.data()};
     backend::parallelFor(Space{}, m_n,
-                         ComputeForces<T, Law>{view(), m_nbr_count.data(), m_nbr_list.data(), m_nbr_capacity, out,
-                                               drumWalls(walls), law, T(m_setup.wall_mass_factor),
-                                               toVec(m_setup.gravity), dt});
+                         OwnedContactForces<T, Law>{view(), m_nbr_count.data(), m_nbr_list.data(), m_nbr_capacity, out,
+                                                    pairs, drumWalls(walls), law, T(m_setup.wall_mass_factor),
+                                                    toVec(m_setup.gravity), dt});
+    backend::parallelFor(Space{}, m_n,
+                         GatherPartnerForces<T>{view(), m_nbr_count.data(), m_nbr_list.data(), m_mirror.data(),
+                                                m_nbr_capacity, out, pairs, dt});
   }
 
   void computeForces(const DrumState& walls, T dt) {
@@ -276,7 +295,10 @@ class DemSolver final : public DemEngine {
   neighbors::CellList<Space, T> m_cells;
   backend::Array<Space, Vec3<T>> m_pos, m_vel, m_omega, m_force, m_torque, m_pos_ref, m_hist_xi;
   backend::Array<Space, T> m_radius, m_mass, m_inv_mass, m_inv_inertia, m_elastic, m_drum_torque;
-  backend::Array<Space, int> m_hist_id, m_overflow, m_nbr_count, m_nbr_list;
+  backend::Array<Space, int> m_hist_id, m_overflow, m_nbr_count, m_nbr_list, m_mirror;
+  // One entry per neighbour-list slot: the result of a pair, written by its owner (lower index).
+  backend::Array<Space, Vec3<T>> m_pair_force, m_pair_nxft;
+  backend::Array<Space, T> m_pair_delta, m_pair_diss, m_pair_elastic;
   backend::Array<Space, double> m_dissipated, m_work_in;
 };
 

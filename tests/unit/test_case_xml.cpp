@@ -120,7 +120,7 @@ TEST(CaseXml, PaperCaseValuesLandInScene) {
   EXPECT_EQ(s.dem.friction_smoothing, "none");
   EXPECT_DOUBLE_EQ(s.dem.impact_velocity, 2.0);
   EXPECT_DOUBLE_EQ(s.drum.diameter, 0.292);
-  EXPECT_DOUBLE_EQ(s.drum.length, 0.1);
+  EXPECT_DOUBLE_EQ(s.drum.length, 0.15);
   EXPECT_DOUBLE_EQ(s.drum.speed_rpm, 24.8);
   EXPECT_DOUBLE_EQ(s.drum.critical_fraction, 0.0);
   EXPECT_DOUBLE_EQ(s.drum.start_time, 2.0);
