@@ -45,12 +45,18 @@ struct DrumWalls {
   template <class F>
   MILLSIM_HD void forEachContact(core::Vec3<T> p, T r, F&& f) const {
     using core::Vec3;
-    const T rho = std::sqrt(p.x * p.x + p.y * p.y);
-    const T d_cyl = rho + r - radius;
-    if (d_cyl > T(0) && rho > T(0)) {
-      const Vec3<T> er{p.x / rho, p.y / rho, T(0)};
-      const Vec3<T> cp{er.x * radius, er.y * radius, p.z};
-      f(WallContact<T>{0, -er, d_cyl, cp, rotationVelocity(cp)});
+    // Balls away from the mantle (most of the bed) skip the square root and the lifter tests.
+    const T rho2 = p.x * p.x + p.y * p.y;
+    const T inner = radius - lifter_height - r;
+    const bool near_mantle = inner <= T(0) || rho2 > inner * inner;
+    if (near_mantle) {
+      const T rho = std::sqrt(rho2);
+      const T d_cyl = rho + r - radius;
+      if (d_cyl > T(0) && rho > T(0)) {
+        const Vec3<T> er{p.x / rho, p.y / rho, T(0)};
+        const Vec3<T> cp{er.x * radius, er.y * radius, p.z};
+        f(WallContact<T>{0, -er, d_cyl, cp, rotationVelocity(cp)});
+      }
     }
     if (p.z < r) {
       const Vec3<T> cp{p.x, p.y, T(0)};
@@ -62,7 +68,7 @@ struct DrumWalls {
       v.z = v_back;
       f(WallContact<T>{2, {T(0), T(0), T(-1)}, p.z + r - z_back, cp, v});
     }
-    if (lifter_count > 0 && rho + r > radius - lifter_height) lifterContacts(p, r, f);
+    if (lifter_count > 0 && near_mantle) lifterContacts(p, r, f);
   }
 
  private:
