@@ -16,6 +16,11 @@ ROOT=$(cd "$HERE/../.." && pwd)
 RUN=$(mkdir -p "${1:-/tmp/millsim_liggghts}" && cd "${1:-/tmp/millsim_liggghts}" && pwd)
 MILLSIM=${MILLSIM:-$ROOT/build/apps/millsim/millsim}
 CASE=$ROOT/cases/ball_mill_300_balls.xml
+# Drum geometry from the case file, so the meshes and the LIGGGHTS box follow it.
+attr() { sed -n "s/.*<$1 [^>]*$2=\"\([^\"]*\)\".*/\1/p" "$CASE" | head -n 1; }
+DIAMETER=$(attr drum diameter)
+LENGTH=$(attr drum length)
+BOX=$(python3 -c "d, L = $DIAMETER, $LENGTH; r = d / 2 + 0.014; print(-r, r, -r, r, -0.01, L + 0.01)")
 
 # Tools: LIGGGHTS from Debian (package liggghts), h5dump to read millsim's checkpoint.
 if [ -z "${LIGGGHTS:-}" ] && ! command -v liggghts >/dev/null; then
@@ -36,11 +41,12 @@ cp "$RUN/millsim_t2/checkpoint.h5" "$RUN/checkpoint_t2.h5"
 #    of the checkpoint.
 echo "[2/5] LIGGGHTS input from the t = 2 s checkpoint"
 mkdir -p "$RUN/liggghts"
-CONV=$(python3 "$HERE/checkpoint_to_data.py" "$RUN/checkpoint_t2.h5" "$RUN/liggghts")
+CONV=$(python3 "$HERE/checkpoint_to_data.py" "$RUN/checkpoint_t2.h5" "$RUN/liggghts" --box $BOX)
 echo "      $CONV"
 PHI=$(sed -n 's/.*phi=\([^ ]*\).*/\1/p' <<<"$CONV")
 FIRST_FRAME=$(sed -n 's/.*first_frame=\([^ ]*\).*/\1/p' <<<"$CONV")
-python3 "$HERE/make_meshes.py" "$RUN/liggghts/meshes" --phi="$PHI"
+python3 "$HERE/make_meshes.py" "$RUN/liggghts/meshes" --phi="$PHI" --radius "$(python3 -c "print($DIAMETER / 2)")" \
+  --length "$LENGTH"
 cp "$HERE/in.drum" "$HERE"/walls_*.in "$RUN/liggghts/"
 
 # 3. millsim continues from the checkpoint (t = 2..12 s). One simulation at a time, one thread.
@@ -55,7 +61,7 @@ echo "[4/5] LIGGGHTS t = 2..12 s (walls: $WALLS)"
 # 5. LIGGGHTS angle through millsim's pipeline, from the last 100 frames (t = 4.08..12 s, the
 #    frame times millsim uses).
 echo "[5/5] angle of repose of the LIGGGHTS dumps"
-"$MILLSIM" angle-from-dumps --dumps "$RUN"/liggghts/dumps/dump.*.txt --diameter 0.292 --pixels-per-mm 2 \
+"$MILLSIM" angle-from-dumps --dumps "$RUN"/liggghts/dumps/dump.*.txt --diameter "$DIAMETER" --pixels-per-mm 2 \
   --from-timestep "$FIRST_FRAME" --out "$RUN/liggghts/angle" >"$RUN/liggghts_angle.json"
 
 python3 - "$RUN" "$WALLS" <<'EOF'
