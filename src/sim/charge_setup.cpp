@@ -1,6 +1,8 @@
 #include "sim/charge_setup.hpp"
 
 #include <algorithm>
+#include <array>
+#include <tuple>
 #include <cmath>
 #include <sstream>
 
@@ -14,6 +16,28 @@ namespace {
 core::InputError chargeError(const scene::Scene& s, const std::string& what) {
   auto it = s.element_lines.find("charge");
   return core::InputError(s.source, it == s.element_lines.end() ? 0 : it->second, "<charge>: " + what);
+}
+
+// Numbers the balls in cell order (z, then y, then x; cells of one ball-pair size) so that
+// neighbours are close in memory: placement order is random in space, and in a dense bed of
+// 49k balls that alone made the contact loop 1.5x slower (docs/performance.md).
+void spatialOrder(dem::Placement& p, double cell) {
+  const std::size_t n = p.radius.size();
+  std::vector<std::size_t> order(n);
+  std::vector<std::array<long, 3>> key(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    order[i] = i;
+    for (int a = 0; a < 3; ++a) key[i][a] = static_cast<long>(std::floor(p.pos[3 * i + a] / cell));
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(key[a][2], key[a][1], key[a][0]) < std::tie(key[b][2], key[b][1], key[b][0]);
+  });
+  dem::Placement sorted;
+  for (std::size_t k : order) {
+    sorted.pos.insert(sorted.pos.end(), {p.pos[3 * k], p.pos[3 * k + 1], p.pos[3 * k + 2]});
+    sorted.radius.push_back(p.radius[k]);
+  }
+  p = std::move(sorted);
 }
 
 }  // namespace
@@ -61,6 +85,7 @@ ChargeSetup buildCharge(const scene::Scene& s) {
     throw chargeError(s, "could not place all " + std::to_string(count) +
                              " balls without overlap; lower filling or raise <compaction length_factor>");
 
+  spatialOrder(placement, 2.0 * s.charge.top_size);
   const std::size_t n = placement.radius.size();
   auto& st = c.state;
   st.pos = placement.pos;
