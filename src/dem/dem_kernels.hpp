@@ -1,8 +1,9 @@
 #pragma once
 // The DEM step as MILLSIM_HD functors over particle indices, run by backend::parallelFor on
 // OpenMP or CUDA: the same code on both. Each pair is evaluated once, by its lower-index particle
-// (pass 1, which also does the walls), and its partner gathers the result from a per-slot pair
-// buffer (pass 2): no atomics, and results do not depend on the thread schedule.
+// from the half neighbour list (partners j > i); the reaction on j goes through a sink
+// (partner_scatter.hpp) that the backend chooses. Particles are renumbered in cell order at each
+// neighbour rebuild (reorder_kernels.hpp) so a pair's two sides lie close in memory.
 #include "dem/contact/hertz.hpp"
 #include "dem/walls/drum_walls.hpp"
 #include "millsim/core/vec3.hpp"
@@ -12,9 +13,12 @@ namespace millsim::dem {
 
 using core::Vec3;
 
-// Contact history slots per particle: partner key (particle index >= 0, wall -1 - id) and the
-// tangential spring. A particle in a dense bed has ~12 contacts; 16 leaves room.
+// Contact history in a DemHostState (checkpoints): per particle, kHistorySlots entries of partner
+// key (a higher-numbered particle, or -1 - wall id) and tangential spring, as the lower-numbered
+// side of the pair sees it. In the solver, pair springs live with the half neighbour list (one
+// per slot) and wall springs in a small per-particle table of kWallSlots.
 inline constexpr int kHistorySlots = 16;
+inline constexpr int kWallSlots = 4;  // cylinder + end plate + lifter face + lifter top at once
 inline constexpr int kNoPartner = -2147483647 - 1;
 
 MILLSIM_HD inline int wallKey(int wall) { return -1 - wall; }
@@ -68,174 +72,128 @@ struct DisplacementSq {
   }
 };
 
-// Verlet neighbour list from the cell list: j is listed when the gap is below `skin`.
+// Half Verlet neighbour list from the cell list, stored compact (CSR): j > i is listed when the
+// gap is below `skin`. Run twice per rebuild: with list == nullptr it only counts (count[i]),
+// then, with start[] the exclusive scan of the counts, it writes list[start[i] ..]. Compact rows
+// keep the per-slot springs contiguous, so the force pass streams them (a fixed-capacity row
+// per particle left most of each row empty and made the spring loads miss the cache).
 template <class T>
 struct BuildNeighbourList {
   neighbors::CellListView<T> cells;
   const Vec3<T>* pos;
   const T* radius;
   Vec3<T>* pos_ref;
-  int* count;
-  int* list;
-  int capacity;
+  int* count;        // pass 1 output
+  const int* start;  // pass 2 input
+  int* list;         // pass 2 output (nullptr in pass 1)
   T skin;
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi = pos[i];
     const T ri = radius[i];
     int c = 0;
+    const int base = list ? start[i] : 0;
     cells.forEachCandidate(xi, [&](int j) {
-      if (j == i) return;
+      if (j <= i) return;
       const T reach = ri + radius[j] + skin;
       if (core::norm2(xi - pos[j]) < reach * reach) {
-        if (c < capacity) list[i * capacity + c] = j;
+        if (list) list[base + c] = j;
         ++c;
       }
     });
-    count[i] = c;  // may exceed capacity: the host checks and grows the list
+    if (!list) count[i] = c;
     pos_ref[i] = xi;
   }
 };
 
-// For each neighbour-list slot (i, k) with partner j < i: the slot m at which i appears in j's
-// list. The pair is evaluated once, by its owner min(i, j); the other side reads the result there.
-struct BuildMirrorIndex {
-  const int* count;
-  const int* list;
-  int* mirror;
-  int capacity;
-  MILLSIM_HD void operator()(int i) const {
-    const int nc = count[i] < capacity ? count[i] : capacity;
-    for (int k = 0; k < nc; ++k) {
-      const int j = list[i * capacity + k];
-      int m = -1;
-      if (j < i) {
-        const int nj = count[j] < capacity ? count[j] : capacity;
-        for (int s = 0; s < nj && m < 0; ++s)
-          if (list[j * capacity + s] == i) m = s;
-      }
-      mirror[i * capacity + k] = m;
-    }
-  }
-};
-
+// Tangential springs of the wall contacts: kWallSlots per particle, keyed by wall id, used slots
+// first (kNoPartner after them).
 template <class T>
-struct ContactOutputs {
-  int* hist_id;
-  Vec3<T>* hist_xi;
-  double* dissipated;   // accumulated J per particle
-  double* work_in;      // accumulated work done by the walls on the particle, J
-  T* elastic;           // current normal elastic energy attributed to the particle, J
-  T* drum_torque;       // torque of this particle's wall contacts on the drum about +z, N m
-  int* history_overflow;
+struct WallHistory {
+  int* key;
+  Vec3<T>* xi;
+  int* overflow;  // set when a particle touches more than kWallSlots walls at once
 };
 
-// One entry per neighbour-list slot, written by the pair's owner (the lower index) and read by
-// the partner: the force on the owner, n x F_t (both torques are -a (n x F_t) with each side's
-// lever a = r - delta/2), the overlap (0: no contact) and the pair's dissipation rate and elastic
-// energy (booked half to each side).
-template <class T>
-struct PairBuffer {
-  Vec3<T>* force;
-  Vec3<T>* n_cross_ft;
-  T* delta;
-  T* dissipation_rate;
-  T* elastic;
-};
-
-// Pass 1 of the forces, per particle i: gravity, the drum walls, and every pair i owns (partner
-// j > i), evaluated once with the contact law; the result also goes to the pair buffer for j.
-// Contact history lives with the owner only, keyed by partner (j, or -1 - wall id).
-template <class T, class Law>
-struct OwnedContactForces {
+// The force pass, per particle i: gravity, the drum walls and every pair (i, j > i) of the half
+// list, each evaluated once with the contact law. The force on i is summed in registers; the
+// reaction on j (and half the pair's dissipation) goes to the sink. The pair's elastic energy is
+// booked to i alone: only its total is used, and one scattered add less per pair is measurable.
+template <class T, class Law, class Sink>
+struct ContactForces {
   ParticleView<T> p;
-  const int* nbr_count;
+  const int* nbr_start;  // particle i's partners: nbr_list[nbr_start[i] .. nbr_start[i + 1])
   const int* nbr_list;
-  int nbr_capacity;
-  ContactOutputs<T> out;
-  PairBuffer<T> pairs;
+  Vec3<T>* pair_xi;  // one tangential spring per neighbour-list slot
+  WallHistory<T> wall_hist;
+  double* work_in;  // accumulated work done by the walls on the particle, J
+  T* elastic_out;   // elastic energy of the contacts i owns (pairs it evaluates, walls), J
+  T* drum_torque;   // torque of this particle's wall contacts on the drum about +z, N m
   DrumWalls<T> walls;
   Law law;
   T wall_mass_factor;
   Vec3<T> gravity;
   T dt;
+  Sink sink;
 
   MILLSIM_HD void operator()(int i) const {
-    int old_id[kHistorySlots];
-    Vec3<T> old_xi[kHistorySlots];
-    int new_id[kHistorySlots];
-    Vec3<T> new_xi[kHistorySlots];
-    // The table is kept compact (used slots first, then kNoPartner), so only the used slots
-    // are read and written: a ball owns ~2-4 contacts, not 16.
-    int n_old = 0;
-    while (n_old < kHistorySlots && out.hist_id[i * kHistorySlots + n_old] != kNoPartner) {
-      old_id[n_old] = out.hist_id[i * kHistorySlots + n_old];
-      old_xi[n_old] = out.hist_xi[i * kHistorySlots + n_old];
-      ++n_old;
-    }
-    int n_new = 0;
-    bool overflow = false;
-    auto spring = [&](int key) {
-      for (int s = 0; s < n_old; ++s)
-        if (old_id[s] == key) return old_xi[s];
-      return core::zero3<T>();
-    };
-    auto keep = [&](int key, Vec3<T> xi) {
-      if (n_new < kHistorySlots) {
-        new_id[n_new] = key;
-        new_xi[n_new] = xi;
-        ++n_new;
-      } else {
-        overflow = true;
-      }
-    };
-
     const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
     const T ri = p.radius[i], mi = p.mass[i];
     Vec3<T> f = mi * gravity;
     Vec3<T> tq = core::zero3<T>();
     T diss_rate = T(0), elastic = T(0), drum_tq = T(0), power_in = T(0);
 
-    const int nc = nbr_count[i] < nbr_capacity ? nbr_count[i] : nbr_capacity;
-    for (int k = 0; k < nc; ++k) {
-      const int slot = i * nbr_capacity + k;
+    const int end = nbr_start[i + 1];
+    for (int slot = nbr_start[i]; slot < end; ++slot) {
       const int j = nbr_list[slot];
-      if (j < i) continue;  // owned by j
-      pairs.delta[slot] = T(0);
       const Vec3<T> d = xi_pos - p.pos[j];
       const T rj = p.radius[j];
       const T reach = ri + rj;
       const T dist2 = core::norm2(d);
-      if (dist2 >= reach * reach || dist2 <= T(0)) continue;
+      if (dist2 >= reach * reach || dist2 <= T(0)) {
+        pair_xi[slot] = core::zero3<T>();  // apart: the spring is released
+        continue;
+      }
       const T dist = std::sqrt(dist2);
       const Vec3<T> n = (T(1) / dist) * d;
       const T delta = reach - dist;
       const T ai = ri - T(0.5) * delta, aj = rj - T(0.5) * delta;
       const Vec3<T> v_rel = (vi + core::cross(wi, (-ai) * n)) - (p.vel[j] + core::cross(p.omega[j], aj * n));
-      const T r_star = ri * rj / reach;
+      Vec3<T> s = pair_xi[slot];
       const T mj = p.mass[j];
-      const T m_star = mi * mj / (mi + mj);
-      Vec3<T> s = spring(j);
-      const ContactResult<T> c = law(n, delta, r_star, m_star, v_rel, s, dt);
-      keep(j, s);
+      const ContactResult<T> c = law(n, delta, ri * rj / reach, mi * mj / (mi + mj), v_rel, s, dt);
+      pair_xi[slot] = s;
       const Vec3<T> nxft = core::cross(n, c.force_t);
       f += c.force;
       tq -= ai * nxft;
-      diss_rate += T(0.5) * c.dissipation_rate;  // the partner books the other half
-      elastic += T(0.5) * c.elastic_energy;
-      pairs.force[slot] = c.force;
-      pairs.n_cross_ft[slot] = nxft;
-      pairs.delta[slot] = delta;
-      pairs.dissipation_rate[slot] = c.dissipation_rate;
-      pairs.elastic[slot] = c.elastic_energy;
+      diss_rate += T(0.5) * c.dissipation_rate;
+      elastic += c.elastic_energy;
+      // On j: -F, and the torque -aj (n_j x F_t,j) with n_j = -n, F_t,j = -F_t.
+      sink.addPartner(j, -c.force, -(aj * nxft), T(0.5) * c.dissipation_rate * dt);
     }
 
+    int old_key[kWallSlots];
+    Vec3<T> old_xi[kWallSlots];
+    int n_old = 0;
+    while (n_old < kWallSlots && wall_hist.key[i * kWallSlots + n_old] != kNoPartner) {
+      old_key[n_old] = wall_hist.key[i * kWallSlots + n_old];
+      old_xi[n_old] = wall_hist.xi[i * kWallSlots + n_old];
+      ++n_old;
+    }
+    int n_new = 0;
     walls.forEachContact(xi_pos, ri, [&](const WallContact<T>& w) {
       const T ai = ri - w.delta;
       const Vec3<T> v_rel = vi + core::cross(wi, (-ai) * w.n) - w.velocity;
-      const int key = wallKey(w.wall);
-      Vec3<T> s = spring(key);
+      Vec3<T> s = core::zero3<T>();
+      for (int q = 0; q < n_old; ++q)
+        if (old_key[q] == w.wall) s = old_xi[q];
       const ContactResult<T> c = law(w.n, w.delta, ri, wall_mass_factor * mi, v_rel, s, dt);
-      keep(key, s);
+      if (n_new < kWallSlots) {
+        wall_hist.key[i * kWallSlots + n_new] = w.wall;
+        wall_hist.xi[i * kWallSlots + n_new] = s;
+        ++n_new;
+      } else {
+        wall_hist.overflow[i] = 1;
+      }
       f += c.force;
       tq += core::cross((-ai) * w.n, c.force_t);
       diss_rate += c.dissipation_rate;
@@ -244,56 +202,23 @@ struct OwnedContactForces {
       drum_tq -= w.point.x * c.force.y - w.point.y * c.force.x;
       power_in += core::dot(c.force, w.velocity);
     });
+    for (int q = n_new; q < n_old; ++q) wall_hist.key[i * kWallSlots + q] = kNoPartner;
 
-    const int n_write = n_new > n_old ? n_new : n_old;
-    for (int s = 0; s < n_write; ++s) {
-      out.hist_id[i * kHistorySlots + s] = s < n_new ? new_id[s] : kNoPartner;
-      out.hist_xi[i * kHistorySlots + s] = s < n_new ? new_xi[s] : core::zero3<T>();
-    }
-    if (overflow) out.history_overflow[i] = 1;
-    p.force[i] = f;
-    p.torque[i] = tq;
-    out.dissipated[i] += double(diss_rate) * double(dt);
-    out.work_in[i] += double(power_in) * double(dt);
-    out.elastic[i] = elastic;
-    out.drum_torque[i] = drum_tq;
+    sink.addOwn(i, f, tq, diss_rate * dt);
+    elastic_out[i] = elastic;
+    work_in[i] += double(power_in) * double(dt);
+    drum_torque[i] = drum_tq;
   }
 };
 
-// Pass 2, per particle i: adds the pairs owned by lower-index partners (read at the mirror slot,
-// force reversed). Each particle writes only its own sums: no atomics, same result on any
-// thread schedule or on the GPU.
+// Clears the sums the force pass accumulates into.
 template <class T>
-struct GatherPartnerForces {
-  ParticleView<T> p;
-  const int* nbr_count;
-  const int* nbr_list;
-  const int* mirror;
-  int nbr_capacity;
-  ContactOutputs<T> out;
-  PairBuffer<T> pairs;
-  T dt;
-
+struct ClearContactSums {
+  Vec3<T>* force;
+  Vec3<T>* torque;
   MILLSIM_HD void operator()(int i) const {
-    const T ri = p.radius[i];
-    Vec3<T> f = core::zero3<T>(), tq = core::zero3<T>();
-    T diss_rate = T(0), elastic = T(0);
-    const int nc = nbr_count[i] < nbr_capacity ? nbr_count[i] : nbr_capacity;
-    for (int k = 0; k < nc; ++k) {
-      const int j = nbr_list[i * nbr_capacity + k];
-      if (j > i) continue;
-      const int e = j * nbr_capacity + mirror[i * nbr_capacity + k];
-      const T delta = pairs.delta[e];
-      if (delta <= T(0)) continue;
-      f -= pairs.force[e];
-      tq -= (ri - T(0.5) * delta) * pairs.n_cross_ft[e];
-      diss_rate += T(0.5) * pairs.dissipation_rate[e];
-      elastic += T(0.5) * pairs.elastic[e];
-    }
-    p.force[i] += f;
-    p.torque[i] += tq;
-    out.dissipated[i] += double(diss_rate) * double(dt);
-    out.elastic[i] += elastic;
+    force[i] = core::zero3<T>();
+    torque[i] = core::zero3<T>();
   }
 };
 

@@ -1,7 +1,9 @@
 #pragma once
 // DemSolver<Space, T>: owns the DEM arrays in the execution space's memory and runs the step
 // functors of dem_kernels.hpp through the backend. Written once; instantiated for OpenMP in
-// dem_solver_omp.cpp and for CUDA in backend/cuda/dem_solver_cuda.cu.
+// dem_solver_omp.cpp and for CUDA in backend/cuda/dem_solver_cuda.cu (which first includes the
+// CUDA PartnerScatter). The solver's particle numbering changes at every neighbour rebuild (cell
+// order); m_id keeps each particle's number in the host state, which never changes.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,6 +11,8 @@
 
 #include "dem/dem_engine.hpp"
 #include "dem/dem_kernels.hpp"
+#include "dem/partner_scatter.hpp"
+#include "dem/reorder_kernels.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 
@@ -58,11 +62,13 @@ struct Speed {
   MILLSIM_HD double operator()(int i) const { return std::sqrt(double(core::norm2(v[i]))); }
 };
 
-template <class T>
-struct ReadInt {
-  const int* v;
-  MILLSIM_HD int operator()(int i) const { return v[i]; }
+template <class U>
+struct Copy {
+  const U* src;
+  U* dst;
+  MILLSIM_HD void operator()(int i) const { dst[i] = src[i]; }
 };
+
 
 template <class Space, class T>
 class DemSolver final : public DemEngine {
@@ -83,6 +89,7 @@ class DemSolver final : public DemEngine {
     const std::size_t n = s.size();
     std::vector<Vec3<T>> pos(n), vel(n), omega(n);
     std::vector<T> radius(n), mass(n), inv_mass(n), inv_inertia(n);
+    std::vector<int> id(n);
     for (std::size_t i = 0; i < n; ++i) {
       pos[i] = {T(s.pos[3 * i]), T(s.pos[3 * i + 1]), T(s.pos[3 * i + 2])};
       vel[i] = {T(s.vel[3 * i]), T(s.vel[3 * i + 1]), T(s.vel[3 * i + 2])};
@@ -91,6 +98,7 @@ class DemSolver final : public DemEngine {
       mass[i] = T(s.mass[i]);
       inv_mass[i] = T(1.0 / s.mass[i]);
       inv_inertia[i] = s.inertia[i] > 0 ? T(1.0 / s.inertia[i]) : T(0);
+      id[i] = static_cast<int>(i);
     }
     m_pos.copyFromHost(pos);
     m_vel.copyFromHost(vel);
@@ -99,42 +107,46 @@ class DemSolver final : public DemEngine {
     m_mass.copyFromHost(mass);
     m_inv_mass.copyFromHost(inv_mass);
     m_inv_inertia.copyFromHost(inv_inertia);
+    m_id.copyFromHost(id);
     m_force.resize(n, core::zero3<T>());
     m_torque.resize(n, core::zero3<T>());
     m_pos_ref.resize(n, core::zero3<T>());
-    std::vector<int> hid(n * kHistorySlots, kNoPartner);
-    std::vector<Vec3<T>> hxi(n * kHistorySlots, core::zero3<T>());
-    if (s.hist_id.size() == hid.size() && s.hist_xi.size() == 3 * hxi.size()) {
-      for (std::size_t k = 0; k < hid.size(); ++k) {
-        hid[k] = static_cast<int>(s.hist_id[k]);
-        hxi[k] = {T(s.hist_xi[3 * k]), T(s.hist_xi[3 * k + 1]), T(s.hist_xi[3 * k + 2])};
-      }
-    }
-    m_hist_id.copyFromHost(hid);
-    m_hist_xi.copyFromHost(hxi);
     m_dissipated.copyFromHost(s.dissipated.size() == n ? s.dissipated : std::vector<double>(n, 0.0));
     m_work_in.copyFromHost(s.work_in.size() == n ? s.work_in : std::vector<double>(n, 0.0));
     m_elastic.resize(n, T(0));
     m_drum_torque.resize(n, T(0));
     m_overflow.resize(n, 0);
     m_nbr_count.resize(n, 0);
-    resizePairArrays();
+    m_nbr_start.resize(n + 1, 0);
+    seedHistory(s);
+    m_scratch_int.resize(n, 0);
+    m_scratch_int_w.resize(n * kWallSlots, 0);
+    m_scratch_real.resize(n, T(0));
+    m_scratch_double.resize(n, 0.0);
+    m_scratch_vec.resize(n, core::zero3<T>());
+    m_scratch_vec_w.resize(n * kWallSlots, core::zero3<T>());
+    m_old_of_new.resize(n, 0);
   }
 
   void getState(DemHostState& s) const override {
-    std::vector<Vec3<T>> pos, vel, omega, hxi;
+    std::vector<Vec3<T>> pos, vel, omega, pair_xi, wall_xi;
     std::vector<T> radius, mass, inv_inertia;
-    std::vector<int> hid;
+    std::vector<int> id, start, list, wall_key;
+    std::vector<double> dissipated, work_in;
     m_pos.copyToHost(pos);
     m_vel.copyToHost(vel);
     m_omega.copyToHost(omega);
     m_radius.copyToHost(radius);
     m_mass.copyToHost(mass);
     m_inv_inertia.copyToHost(inv_inertia);
-    m_hist_id.copyToHost(hid);
-    m_hist_xi.copyToHost(hxi);
-    m_dissipated.copyToHost(s.dissipated);
-    m_work_in.copyToHost(s.work_in);
+    m_id.copyToHost(id);
+    m_nbr_start.copyToHost(start);
+    m_nbr_list.copyToHost(list);
+    m_pair_xi.copyToHost(pair_xi);
+    m_wall_key.copyToHost(wall_key);
+    m_wall_xi.copyToHost(wall_xi);
+    m_dissipated.copyToHost(dissipated);
+    m_work_in.copyToHost(work_in);
     const std::size_t n = pos.size();
     s.pos.resize(3 * n);
     s.vel.resize(3 * n);
@@ -142,22 +154,54 @@ class DemSolver final : public DemEngine {
     s.radius.resize(n);
     s.mass.resize(n);
     s.inertia.resize(n);
+    s.dissipated.resize(n);
+    s.work_in.resize(n);
+    s.hist_id.assign(n * kHistorySlots, kNoPartner);
+    s.hist_xi.assign(3 * n * kHistorySlots, 0.0);
+    std::vector<int> used(n, 0);
+    // A checkpoint's table: each spring with the lower host number of its pair, seen from it.
+    auto record = [&](int owner, std::int64_t key, Vec3<T> xi) {
+      if (used[owner] >= kHistorySlots) return;  // > 16 contacts: the rest restart unloaded
+      const std::size_t e = static_cast<std::size_t>(owner) * kHistorySlots + used[owner]++;
+      s.hist_id[e] = key;
+      put3(s.hist_xi, e, xi);
+    };
     for (std::size_t i = 0; i < n; ++i) {
-      put3(s.pos, i, pos[i]);
-      put3(s.vel, i, vel[i]);
-      put3(s.omega, i, omega[i]);
-      s.radius[i] = double(radius[i]);
-      s.mass[i] = double(mass[i]);
-      s.inertia[i] = inv_inertia[i] > T(0) ? 1.0 / double(inv_inertia[i]) : 0.0;
+      const std::size_t h = static_cast<std::size_t>(id[i]);
+      put3(s.pos, h, pos[i]);
+      put3(s.vel, h, vel[i]);
+      put3(s.omega, h, omega[i]);
+      s.radius[h] = double(radius[i]);
+      s.mass[h] = double(mass[i]);
+      s.inertia[h] = inv_inertia[i] > T(0) ? 1.0 / double(inv_inertia[i]) : 0.0;
+      s.dissipated[h] = dissipated[i];
+      s.work_in[h] = work_in[i];
+      for (int q = 0; q < kWallSlots && wall_key[i * kWallSlots + q] != kNoPartner; ++q)
+        record(id[i], wallKey(wall_key[i * kWallSlots + q]), wall_xi[i * kWallSlots + q]);
+      for (int slot = start[i]; slot < start[i + 1]; ++slot) {
+        const Vec3<T> xi = pair_xi[slot];
+        if (xi.x == T(0) && xi.y == T(0) && xi.z == T(0)) continue;
+        const int a = id[i], b = id[list[slot]];
+        if (a < b) record(a, b, xi);
+        else record(b, a, -xi);
+      }
     }
-    s.hist_id.assign(hid.begin(), hid.end());
-    s.hist_xi.resize(3 * hxi.size());
-    for (std::size_t k = 0; k < hxi.size(); ++k) put3(s.hist_xi, k, hxi[k]);
   }
 
+  // The forces of the given state, for the first half-kick. The springs are left as given: a
+  // force evaluation with dt = 0 still moves a sliding contact's spring (onto -F_t/k_t with the
+  // damping included), and a restart must continue from the checkpoint's springs.
   void initialize(const DrumState& walls) override {
     rebuildNeighbours();
+    backend::Array<Space, Vec3<T>> pair_xi(m_pair_xi.size()), wall_xi(m_wall_xi.size());
+    backend::Array<Space, int> wall_key(m_wall_key.size());
+    copyAll(m_pair_xi, pair_xi);
+    copyAll(m_wall_xi, wall_xi);
+    copyAll(m_wall_key, wall_key);
     computeForces(walls, T(0));
+    m_pair_xi.swap(pair_xi);
+    m_wall_xi.swap(wall_xi);
+    m_wall_key.swap(wall_key);
   }
 
   void step(const DrumState& walls, double dt_in) override {
@@ -192,12 +236,17 @@ class DemSolver final : public DemEngine {
 
   std::map<std::string, std::size_t> memoryBytes() const override {
     return {{"dem.particles", m_pos.bytes() + m_vel.bytes() + m_omega.bytes() + m_force.bytes() + m_torque.bytes() +
-                                  m_radius.bytes() + m_mass.bytes() + m_inv_mass.bytes() + m_inv_inertia.bytes()},
-            {"dem.contact_history", m_hist_id.bytes() + m_hist_xi.bytes() + m_overflow.bytes()},
+                                  m_radius.bytes() + m_mass.bytes() + m_inv_mass.bytes() + m_inv_inertia.bytes() +
+                                  m_id.bytes()},
+            {"dem.contact_history", m_pair_xi.bytes() + m_wall_key.bytes() + m_wall_xi.bytes() + m_overflow.bytes() +
+                                        m_old_xi.bytes()},
             {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes()},
-            {"dem.pair_buffer", m_pair_force.bytes() + m_pair_nxft.bytes() + m_pair_delta.bytes() + m_pair_diss.bytes() +
-                                    m_pair_elastic.bytes()},
-            {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_list.bytes() + m_mirror.bytes() + m_pos_ref.bytes()}};
+            {"dem.partner_scatter", m_scatter.bytes()},
+            {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_int_w.bytes() + m_scratch_real.bytes() +
+                                        m_scratch_double.bytes() + m_scratch_vec.bytes() + m_scratch_vec_w.bytes() +
+                                        m_old_of_new.bytes()},
+            {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
+                              m_old_list.bytes() + m_pos_ref.bytes()}};
   }
 
   std::int64_t neighbourRebuilds() const override { return m_rebuilds; }
@@ -215,32 +264,107 @@ class DemSolver final : public DemEngine {
             m_radius.data(), m_mass.data(), m_inv_mass.data(), m_inv_inertia.data()};
   }
 
+  // A checkpoint's springs: wall springs straight into the wall tables; pair springs into the
+  // "old" spring table, which the first rebuild carries onto the neighbour list.
+  void seedHistory(const DemHostState& s) {
+    const std::size_t n = s.size();
+    std::vector<int> wall_key(n * kWallSlots, kNoPartner), start(n + 1, 0), partner;
+    std::vector<Vec3<T>> wall_xi(n * kWallSlots, core::zero3<T>()), xi;
+    std::vector<int> overflow(n, 0);
+    if (s.hist_id.size() == n * kHistorySlots && s.hist_xi.size() == 3 * n * kHistorySlots) {
+      for (std::size_t i = 0; i < n; ++i) {
+        int walls = 0;
+        for (int k = 0; k < kHistorySlots; ++k) {
+          const std::size_t e = i * kHistorySlots + k;
+          const std::int64_t key = s.hist_id[e];
+          const Vec3<T> v{T(s.hist_xi[3 * e]), T(s.hist_xi[3 * e + 1]), T(s.hist_xi[3 * e + 2])};
+          if (key == kNoPartner) continue;
+          if (key < 0) {
+            if (walls < kWallSlots) {
+              wall_key[i * kWallSlots + walls] = static_cast<int>(-1 - key);
+              wall_xi[i * kWallSlots + walls] = v;
+              ++walls;
+            } else {
+              overflow[i] = 1;
+            }
+          } else {
+            partner.push_back(static_cast<int>(key));
+            xi.push_back(v);
+          }
+        }
+        start[i + 1] = static_cast<int>(partner.size());
+      }
+    }
+    m_wall_key.copyFromHost(wall_key);
+    m_wall_xi.copyFromHost(wall_xi);
+    m_overflow.copyFromHost(overflow);
+    m_old_start.copyFromHost(start);
+    m_old_list.copyFromHost(partner);
+    m_old_xi.copyFromHost(xi);
+    m_old_is_seed = true;
+  }
+
+  // Renumbers the particles in cell order (the order the cell sort just produced) and returns
+  // the old index of each new particle (the sorted order itself).
+  const int* reorderParticles() {
+    const int* order = m_cells.view().order;
+    gather(m_pos, m_scratch_vec, order, 1);
+    gather(m_vel, m_scratch_vec, order, 1);
+    gather(m_omega, m_scratch_vec, order, 1);
+    gather(m_radius, m_scratch_real, order, 1);
+    gather(m_mass, m_scratch_real, order, 1);
+    gather(m_inv_mass, m_scratch_real, order, 1);
+    gather(m_inv_inertia, m_scratch_real, order, 1);
+    gather(m_dissipated, m_scratch_double, order, 1);
+    gather(m_work_in, m_scratch_double, order, 1);
+    gather(m_id, m_scratch_int, order, 1);
+    gather(m_overflow, m_scratch_int, order, 1);
+    gather(m_wall_key, m_scratch_int_w, order, kWallSlots);
+    gather(m_wall_xi, m_scratch_vec_w, order, kWallSlots);
+    // Keep the order, then tell the cell list its particles now are in sorted order.
+    backend::parallelFor(Space{}, m_n, Copy<int>{order, m_old_of_new.data()});
+    m_cells.renumberedInOrder();
+    return m_old_of_new.data();
+  }
+
+  template <class U>
+  static void copyAll(const backend::Array<Space, U>& from, backend::Array<Space, U>& to) {
+    backend::parallelFor(Space{}, static_cast<int>(from.size()), Copy<U>{from.data(), to.data()});
+  }
+
+  template <class U>
+  void gather(backend::Array<Space, U>& a, backend::Array<Space, U>& scratch, const int* order, int width) {
+    backend::parallelFor(Space{}, m_n, GatherRows<U>{a.data(), scratch.data(), order, width});
+    a.swap(scratch);
+  }
+
   void rebuildNeighbours() {
     ++m_rebuilds;
     m_cells.build(m_pos.data(), m_n);
-    for (;;) {
-      backend::parallelFor(Space{}, m_n,
-                           BuildNeighbourList<T>{m_cells.view(), m_pos.data(), m_radius.data(), m_pos_ref.data(),
-                                                 m_nbr_count.data(), m_nbr_list.data(), m_nbr_capacity, T(m_setup.skin)});
-      const int most = backend::reduceMax<int>(Space{}, m_n, 0, ReadInt<T>{m_nbr_count.data()});
-      if (most <= m_nbr_capacity) break;
-      // Rare (a dense clump of small balls around a large one): grow outside the step loop's
-      // steady state and rebuild.
-      m_nbr_capacity = most + 8;
-      resizePairArrays();
+    const int* old_of_new = reorderParticles();
+    if (!m_old_is_seed) {
+      m_nbr_start.swap(m_old_start);
+      m_nbr_list.swap(m_old_list);
+      m_pair_xi.swap(m_old_xi);
     }
-    backend::parallelFor(Space{}, m_n, BuildMirrorIndex{m_nbr_count.data(), m_nbr_list.data(), m_mirror.data(), m_nbr_capacity});
-  }
-
-  void resizePairArrays() {
-    const std::size_t slots = static_cast<std::size_t>(m_n) * m_nbr_capacity;
-    m_nbr_list.resize(slots, 0);
-    m_mirror.resize(slots, -1);
-    m_pair_force.resize(slots, core::zero3<T>());
-    m_pair_nxft.resize(slots, core::zero3<T>());
-    m_pair_delta.resize(slots, T(0));
-    m_pair_diss.resize(slots, T(0));
-    m_pair_elastic.resize(slots, T(0));
+    if (m_nbr_start.size() != static_cast<std::size_t>(m_n) + 1) m_nbr_start.resize(m_n + 1, 0);
+    BuildNeighbourList<T> build{m_cells.view(),     m_pos.data(), m_radius.data(), m_pos_ref.data(),
+                                m_nbr_count.data(), nullptr,      nullptr,         T(m_setup.skin)};
+    backend::parallelFor(Space{}, m_n, build);
+    const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_nbr_start.data(), m_n);
+    if (m_nbr_list.size() < total) {
+      // Grows with 25% to spare, so a bed that packs a little denser does not reallocate.
+      const std::size_t size = total + total / 4 + 64;
+      m_nbr_list.resize(size, 0);
+      m_pair_xi.resize(size, core::zero3<T>());
+    }
+    build.start = m_nbr_start.data();
+    build.list = m_nbr_list.data();
+    backend::parallelFor(Space{}, m_n, build);
+    const SpringTable<T> old{m_old_start.data(), m_old_list.data(), m_old_xi.data()};
+    backend::parallelFor(Space{}, m_n,
+                         TransferPairSprings<T>{old, old_of_new, m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data()});
+    m_old_is_seed = false;
   }
 
   static DrumWalls<T> drumWalls(const DrumState& w) {
@@ -266,17 +390,26 @@ class DemSolver final : public DemEngine {
 
   template <class Law>
   void launchForces(const DrumState& walls, T dt, Law law) {
-    ContactOutputs<T> out{m_hist_id.data(), m_hist_xi.data(), m_dissipated.data(), m_work_in.data(),
-                          m_elastic.data(), m_drum_torque.data(), m_overflow.data()};
-    PairBuffer<T> pairs{m_pair_force.data(), m_pair_nxft.data(), m_pair_delta.data(), m_pair_diss.data(),
-                        m_pair_elastic.data()};
-    backend::parallelFor(Space{}, m_n,
-                         OwnedContactForces<T, Law>{view(), m_nbr_count.data(), m_nbr_list.data(), m_nbr_capacity, out,
-                                                    pairs, drumWalls(walls), law, T(m_setup.wall_mass_factor),
-                                                    toVec(m_setup.gravity), dt});
-    backend::parallelFor(Space{}, m_n,
-                         GatherPartnerForces<T>{view(), m_nbr_count.data(), m_nbr_list.data(), m_mirror.data(),
-                                                m_nbr_capacity, out, pairs, dt});
+    backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
+    const PartnerTargets<T> targets{m_force.data(), m_torque.data(), m_dissipated.data()};
+    const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
+    const DrumWalls<T> drum = drumWalls(walls);
+    m_scatter.run(m_n, targets, [&](auto sink) {
+      return ContactForces<T, Law, decltype(sink)>{view(),
+                                                   m_nbr_start.data(),
+                                                   m_nbr_list.data(),
+                                                   m_pair_xi.data(),
+                                                   wall_hist,
+                                                   m_work_in.data(),
+                                                   m_elastic.data(),
+                                                   m_drum_torque.data(),
+                                                   drum,
+                                                   law,
+                                                   T(m_setup.wall_mass_factor),
+                                                   toVec(m_setup.gravity),
+                                                   dt,
+                                                   sink};
+    });
   }
 
   void computeForces(const DrumState& walls, T dt) {
@@ -290,16 +423,29 @@ class DemSolver final : public DemEngine {
   DemSetup m_setup;
   HertzParams<T> m_law;
   int m_n = 0;
-  int m_nbr_capacity = 32;
   std::int64_t m_rebuilds = 0;
   neighbors::CellList<Space, T> m_cells;
-  backend::Array<Space, Vec3<T>> m_pos, m_vel, m_omega, m_force, m_torque, m_pos_ref, m_hist_xi;
+  PartnerScatter<Space, T> m_scatter;
+  backend::Array<Space, Vec3<T>> m_pos, m_vel, m_omega, m_force, m_torque, m_pos_ref;
   backend::Array<Space, T> m_radius, m_mass, m_inv_mass, m_inv_inertia, m_elastic, m_drum_torque;
-  backend::Array<Space, int> m_hist_id, m_overflow, m_nbr_count, m_nbr_list, m_mirror;
-  // One entry per neighbour-list slot: the result of a pair, written by its owner (lower index).
-  backend::Array<Space, Vec3<T>> m_pair_force, m_pair_nxft;
-  backend::Array<Space, T> m_pair_delta, m_pair_diss, m_pair_elastic;
+  backend::Array<Space, int> m_id, m_overflow;
+  // Half neighbour list, compact: partners of i at m_nbr_list[m_nbr_start[i] .. m_nbr_start[i + 1]).
+  backend::Array<Space, int> m_nbr_count, m_nbr_start, m_nbr_list;
   backend::Array<Space, double> m_dissipated, m_work_in;
+  // Springs: one per half-list slot for pairs, kWallSlots per particle for walls.
+  backend::Array<Space, Vec3<T>> m_pair_xi, m_wall_xi;
+  backend::Array<Space, int> m_wall_key;
+  // The neighbour list and springs before the last rebuild (or a checkpoint's table), read once
+  // when the springs move to the new list.
+  backend::Array<Space, int> m_old_start, m_old_list;
+  backend::Array<Space, Vec3<T>> m_old_xi;
+  bool m_old_is_seed = false;
+  // Renumbering: a gather needs a second array of each kind; swapping keeps sizes without
+  // allocating in the step loop.
+  backend::Array<Space, int> m_scratch_int, m_scratch_int_w, m_old_of_new;
+  backend::Array<Space, T> m_scratch_real;
+  backend::Array<Space, double> m_scratch_double;
+  backend::Array<Space, Vec3<T>> m_scratch_vec, m_scratch_vec_w;
 };
 
 }  // namespace millsim::dem

@@ -6,12 +6,14 @@
 #include <thrust/device_ptr.h>
 #include <thrust/execution_policy.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
 #include <thrust/sort.h>
 #include <thrust/transform_reduce.h>
 #include <thrust/functional.h>
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "millsim/backend/omp.hpp"
@@ -58,6 +60,10 @@ class Array<Cuda, T> {
     if (m_size) cudaCheck(cudaMemcpy(dst.data(), m_ptr, m_size * sizeof(T), cudaMemcpyDeviceToHost), "copy to host");
   }
   void fill(T value) { copyFromHost(std::vector<T>(m_size, value)); }
+  void swap(Array& other) noexcept {
+    std::swap(m_ptr, other.m_ptr);
+    std::swap(m_size, other.m_size);
+  }
 
  private:
   void release() {
@@ -102,6 +108,20 @@ R reduceMax(Cuda, int n, R init, const F& f) {
 
 inline void sortByKey(Cuda, int* keys, int* values, int n, int /*key_count*/, std::vector<int>& /*scratch*/) {
   thrust::stable_sort_by_key(thrust::device, keys, keys + n, values);
+}
+
+// out[i] = in[0] + .. + in[i - 1] for i in [0, n]; returns the total out[n].
+inline int exclusiveScan(Cuda, const int* in, int* out, int n) {
+  int total = 0;
+  if (n > 0) {
+    thrust::exclusive_scan(thrust::device, in, in + n, out);
+    int last[2];
+    cudaCheck(cudaMemcpy(&last[0], out + n - 1, sizeof(int), cudaMemcpyDeviceToHost), "scan total");
+    cudaCheck(cudaMemcpy(&last[1], in + n - 1, sizeof(int), cudaMemcpyDeviceToHost), "scan total");
+    total = last[0] + last[1];
+  }
+  cudaCheck(cudaMemcpy(out + n, &total, sizeof(int), cudaMemcpyHostToDevice), "scan total");
+  return total;
 }
 
 inline void synchronize(Cuda) { cudaCheck(cudaDeviceSynchronize(), "synchronize"); }

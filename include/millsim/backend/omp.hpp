@@ -35,6 +35,7 @@ class Array<Omp, T> {
   void copyFromHost(const std::vector<T>& src) { m_data = src; }
   void copyToHost(std::vector<T>& dst) const { dst = m_data; }
   void fill(T value) { std::fill(m_data.begin(), m_data.end(), value); }
+  void swap(Array& other) noexcept { m_data.swap(other.m_data); }
 
  private:
   std::vector<T> m_data;
@@ -79,6 +80,19 @@ inline void sortByKey(Omp, int* keys, int* values, int n, int key_count, std::ve
   }
   std::copy(out_keys, out_keys + n, keys);
   std::copy(out_values, out_values + n, values);
+}
+
+// out[i] = in[0] + .. + in[i - 1] for i in [0, n]; returns the total out[n]. Serial: it runs at
+// neighbour rebuilds only, on one int per particle.
+inline int exclusiveScan(Omp, const int* in, int* out, int n) {
+  int total = 0;
+  for (int i = 0; i < n; ++i) {
+    const int v = in[i];
+    out[i] = total;
+    total += v;
+  }
+  out[n] = total;
+  return total;
 }
 
 inline void synchronize(Omp) {}

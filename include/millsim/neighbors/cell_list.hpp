@@ -33,6 +33,11 @@ struct CellRangeFunctor {
   }
 };
 
+struct IdentityFunctor {
+  int* order;
+  MILLSIM_HD void operator()(int s) const { order[s] = s; }
+};
+
 struct ClearCellsFunctor {
   int* cell_start;
   int* cell_end;
@@ -80,6 +85,10 @@ class CellList {
     parallelFor(Space{}, m_grid.cellCount(), ClearCellsFunctor{m_start.data(), m_end.data()});
     parallelFor(Space{}, n, CellRangeFunctor{m_keys.data(), n, m_start.data(), m_end.data()});
   }
+
+  // After the caller renumbered its particles by the sorted order of the last build(), the
+  // cells stay valid and slot s now holds particle s.
+  void renumberedInOrder() { backend::parallelFor(Space{}, static_cast<int>(m_order.size()), IdentityFunctor{m_order.data()}); }
 
   CellListView<T> view() const { return {m_grid, m_order.data(), m_start.data(), m_end.data()}; }
   std::size_t bytes() const { return m_keys.bytes() + m_order.bytes() + m_start.bytes() + m_end.bytes(); }

@@ -1,4 +1,5 @@
 // CUDA instantiations of the one DEM solver template: the same functors as the OpenMP build.
+#include "backend/cuda/partner_scatter_cuda.cuh"
 #include "millsim/backend/cuda.cuh"
 #include "dem/dem_solver.hpp"
 

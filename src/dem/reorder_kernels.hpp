@@ -1,0 +1,58 @@
+#pragma once
+// Renumbering particles in cell order, and carrying the contact springs across a neighbour-list
+// rebuild. Why renumber: in a dense bed that has flowed for a while, particle i's neighbours are
+// scattered over the arrays and nearly every neighbour read misses the cache (measured on 49k
+// balls: 1.5x slower than spatial order). LIGGGHTS sorts every 1000 steps; we do it at every
+// rebuild (every ~50-100 steps in a dense drum), where the cell sort is already done.
+#include "millsim/core/hd.hpp"
+#include "millsim/core/vec3.hpp"
+
+namespace millsim::dem {
+
+// dst[i * width + k] = src[order[i] * width + k]: new particle i is old particle order[i].
+template <class U>
+struct GatherRows {
+  const U* src;
+  U* dst;
+  const int* order;
+  int width;
+  MILLSIM_HD void operator()(int i) const {
+    for (int k = 0; k < width; ++k) dst[i * width + k] = src[order[i] * width + k];
+  }
+};
+
+// Contact springs before the rebuild, as a compact table per old particle o: entries
+// start[o] .. start[o + 1] of partner (old index, always > o: a pair lives with its
+// lower-numbered side) and spring seen from o. This is the old half neighbour list itself, or
+// a checkpoint's history table.
+template <class T>
+struct SpringTable {
+  const int* start;
+  const int* partner;
+  const core::Vec3<T>* xi;
+  MILLSIM_HD core::Vec3<T> find(int owner, int other) const {
+    for (int e = start[owner]; e < start[owner + 1]; ++e)
+      if (partner[e] == other) return xi[e];
+    return core::zero3<T>();
+  }
+};
+
+// Spring of each new half-list slot (i, j): looked up under the old numbers of i and j; when the
+// renumbering swapped which side is lower, the spring is seen from the other side (xi_ji = -xi_ij).
+template <class T>
+struct TransferPairSprings {
+  SpringTable<T> old;
+  const int* old_of_new;  // old index of new particle i
+  const int* start;
+  const int* list;
+  core::Vec3<T>* xi;
+  MILLSIM_HD void operator()(int i) const {
+    const int oi = old_of_new[i];
+    for (int e = start[i]; e < start[i + 1]; ++e) {
+      const int oj = old_of_new[list[e]];
+      xi[e] = oi < oj ? old.find(oi, oj) : -old.find(oj, oi);
+    }
+  }
+};
+
+}  // namespace millsim::dem
