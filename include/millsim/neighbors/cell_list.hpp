@@ -9,14 +9,19 @@
 
 namespace millsim::neighbors {
 
+// Key of each particle: its cell, or `out_key` (one past the last cell, never searched) when
+// its code is >= skip_from (particles excluded from a run, which sort to the end).
 template <class T>
 struct CellKeyFunctor {
   CellGrid<T> grid;
   const core::Vec3<T>* pos;
+  const int* code;  // nullptr: every particle takes part
+  int skip_from;
+  int out_key;
   int* keys;
   int* order;
   MILLSIM_HD void operator()(int i) const {
-    keys[i] = grid.cellOf(pos[i]);
+    keys[i] = code && code[i] >= skip_from ? out_key : grid.cellOf(pos[i]);
     order[i] = i;
   }
 };
@@ -26,8 +31,10 @@ struct CellRangeFunctor {
   int n;
   int* cell_start;
   int* cell_end;
+  int out_key;
   MILLSIM_HD void operator()(int s) const {
     const int k = sorted_keys[s];
+    if (k == out_key) return;
     if (s == 0 || sorted_keys[s - 1] != k) cell_start[k] = s;
     if (s == n - 1 || sorted_keys[s + 1] != k) cell_end[k] = s + 1;
   }
@@ -73,17 +80,22 @@ class CellList {
   }
   const CellGrid<T>& grid() const { return m_grid; }
 
-  void build(const core::Vec3<T>* pos, int n) {
+  void build(const core::Vec3<T>* pos, int n) { build(pos, n, nullptr, 0); }
+
+  // As build(), leaving out particles whose code is >= skip_from: they sort to the end of the
+  // order and no search finds them.
+  void build(const core::Vec3<T>* pos, int n, const int* code, int skip_from) {
     using backend::parallelFor;
     using backend::sortByKey;
     if (static_cast<int>(m_keys.size()) != n) {
       m_keys.resize(n);
       m_order.resize(n);
     }
-    parallelFor(Space{}, n, CellKeyFunctor<T>{m_grid, pos, m_keys.data(), m_order.data()});
-    sortByKey(Space{}, m_keys.data(), m_order.data(), n, m_grid.cellCount(), m_scratch);
+    const int out_key = m_grid.cellCount();
+    parallelFor(Space{}, n, CellKeyFunctor<T>{m_grid, pos, code, skip_from, out_key, m_keys.data(), m_order.data()});
+    sortByKey(Space{}, m_keys.data(), m_order.data(), n, out_key + 1, m_scratch);
     parallelFor(Space{}, m_grid.cellCount(), ClearCellsFunctor{m_start.data(), m_end.data()});
-    parallelFor(Space{}, n, CellRangeFunctor{m_keys.data(), n, m_start.data(), m_end.data()});
+    parallelFor(Space{}, n, CellRangeFunctor{m_keys.data(), n, m_start.data(), m_end.data(), out_key});
   }
 
   // After the caller renumbered its particles by the sorted order of the last build(), the

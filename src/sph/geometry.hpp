@@ -1,0 +1,31 @@
+#pragma once
+// Geometry -> particles at spacing dp, host side, set-up only. Fluid fills a box on a lattice
+// whose first row sits dp/2 inside the box faces; boundary particles (DBC) stand outside the box
+// faces in `layers` rows at dp/2, 3dp/2, ..., so fluid and wall particles start dp apart and the
+// wall surface is the box face. In 2D z is ignored (all particles at z = 0).
+#include <array>
+#include <vector>
+
+#include "sph/sph_engine.hpp"
+
+namespace millsim::sph {
+
+struct Box {
+  std::array<double, 3> lo{}, hi{};
+};
+
+// Appends fluid particles filling `box` (velocity 0, density rho0; see hydrostaticDensity).
+void fillFluidBox(SphHostState& s, const Box& box, double dp, int dim, double rho0);
+
+// Appends the walls of an open-top (or closed) tank around `box`: floor, side walls (and front
+// and back walls in 3D), `layers` deep, up to box.hi.y (+ the roof when closed). `code` is
+// kBoundFixed or kBoundMoving.
+void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layers, bool closed_top, int code,
+                  double rho0);
+
+// Sets every particle's density to the hydrostatic value of a free surface at height
+// `surface_y` (up is +y): rho = rho0 (1 + rho0 g (surface_y - y) / B)^(1/gamma), B = c0^2 rho0 /
+// gamma, and rho0 above the surface (boundary particles never below rho0).
+void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma);
+
+}  // namespace millsim::sph

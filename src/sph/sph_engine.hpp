@@ -1,0 +1,82 @@
+#pragma once
+// Backend-neutral face of the SPH solver. The time loop (src/sim/sph_run.cpp) drives an engine
+// through this interface; SphSolver<Space, T, Dim> implements it once for every execution space.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace millsim::sph {
+
+// Everything the solver needs, in SI units, resolved from the case (h, c0 already computed).
+struct SphSetup {
+  int dimension = 2;
+  std::string kernel = "wendland";       // wendland | cubic
+  std::string ddt = "fourtakas";         // none | molteni | fourtakas
+  std::string viscosity = "artificial";  // artificial | laminar_sps
+  std::string integrator = "verlet";     // verlet | symplectic
+  bool shifting = false;
+  double dp = 0, h = 0, c0 = 0, rho0 = 1000, gamma = 7;
+  double alpha = 0.1, visco_bound_factor = 1.0, nu = 1e-6;
+  double ddt_value = 0.1;
+  double eta2_factor = 0.01;      // eta^2 = factor h^2
+  double shift_coef = 2.0, shift_tfs = 1.5;
+  double sps_cs = 0.12, sps_ci = 0.0066;
+  int verlet_steps = 40;
+  double cfl = 0.2;
+  bool fixed_dt = false;
+  double dt_fixed = 1e-5;
+  double rho_min = 700, rho_max = 1300;
+  std::array<double, 3> gravity{0, -9.81, 0};
+  std::array<double, 3> domain_lo{}, domain_hi{};  // fluid leaving this box is excluded
+  std::array<double, 3> motion_center{};           // moving boundaries rotate about z through this
+};
+
+// Plain host copy of the particles, in their original order (ids never change).
+struct SphHostState {
+  std::vector<double> pos, vel;  // 3 per particle
+  std::vector<double> rho;
+  std::vector<int> code;         // ParticleCode
+  std::size_t size() const { return rho.size(); }
+};
+
+struct SphMotion {
+  double theta = 0, omega = 0;  // rotation of moving boundaries about z: angle from the start, rate
+};
+
+struct SphSums {
+  double kinetic = 0, potential = 0;  // fluid only, J (per metre of depth in 2D)
+  double fluid_mass = 0;              // active fluid, kg (per metre in 2D)
+  double max_speed = 0;               // fluid, m/s
+  double max_x = 0;                   // largest x of active fluid (dam-break front), m
+  double rho_min = 0, rho_max = 0;    // over active fluid
+  long long fluid = 0, excluded_density = 0, excluded_domain = 0, boundary = 0;
+};
+
+class SphEngine {
+ public:
+  virtual ~SphEngine() = default;
+  virtual const char* backendName() const = 0;
+  virtual const char* precisionName() const = 0;
+  virtual void setState(const SphHostState& s) = 0;
+  virtual void getState(SphHostState& s) const = 0;
+  // Neighbours and forces of the current state (call after setState).
+  virtual void initialize(const SphMotion& now) = 0;
+  // Time step from the last force evaluation: CFL (eqs. 40-41) or the fixed one.
+  virtual double nextDt() const = 0;
+  // One step of dt; moving boundaries at `half` (symplectic predictor) and `end`.
+  virtual void step(double dt, const SphMotion& half, const SphMotion& end) = 0;
+  virtual SphSums sums() const = 0;
+  // Shepard-interpolated fluid pressure at a point (probe), Pa; NaN when no fluid within 2h.
+  virtual double probePressure(const std::array<double, 3>& x) const = 0;
+  virtual std::map<std::string, std::size_t> memoryBytes() const = 0;
+};
+
+std::unique_ptr<SphEngine> makeSphEngineOmp(const SphSetup& setup);
+#if defined(MILLSIM_HAVE_CUDA)
+std::unique_ptr<SphEngine> makeSphEngineCuda(const SphSetup& setup);
+#endif
+
+}  // namespace millsim::sph

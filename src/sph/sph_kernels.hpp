@@ -1,0 +1,288 @@
+#pragma once
+// The WCSPH step as MILLSIM_HD functors (paper eqs. 15-45, the DualSPHysics formulation), run by
+// backend::parallelFor on OpenMP and CUDA alike. Options that sit in the pair loop (kernel,
+// density diffusion, viscosity, shifting) are template parameters, so an option that is off
+// costs nothing per pair.
+//
+// Particles: fluid, fixed boundary (DBC), moving boundary (DBC with imposed motion), and
+// excluded (left the domain or the density limits; counted, never searched, never moved).
+#include <cmath>
+
+#include "millsim/core/hd.hpp"
+#include "millsim/core/vec3.hpp"
+#include "millsim/neighbors/cell_grid.hpp"
+#include "sph/eos.hpp"
+#include "sph/viscosity.hpp"
+
+namespace millsim::sph {
+
+using core::Vec3;
+
+enum ParticleCode : int {
+  kFluid = 0,
+  kBoundFixed = 1,
+  kBoundMoving = 2,
+  kExcludedDensity = 3,  // first excluded code: everything >= this is out of the run
+  kExcludedDomain = 4,
+};
+
+MILLSIM_HD inline bool isExcluded(int code) { return code >= kExcludedDensity; }
+
+template <class T>
+struct SphView {
+  Vec3<T>* pos;
+  Vec3<T>* vel;
+  T* rho;
+  int* code;
+  T* press;
+  Vec3<T>* ace;        // dv/dt without gravity
+  T* drho;             // drho/dt
+  T* visc_dt;          // max_b |h v_ab . r_ab| / (r^2 + eta^2), for the time step (eq. 40)
+  Vec3<T>* shift_grad; // grad C = sum_b V_b grad W (shifting)
+  T* shift_div;        // div r = -sum_b V_b r_ab . grad W (free-surface detection)
+  Sym3<T>* strain;     // strain rate S (laminar+SPS)
+  Sym3<T>* tau;        // SPS stress from the previous step
+};
+
+template <class T>
+struct EosPressure {
+  TaitEos<T> eos;
+  const T* rho;
+  T* press;
+  MILLSIM_HD void operator()(int i) const { press[i] = eos.pressure(rho[i]); }
+};
+
+// Forces, continuity and the shifting sums of particle a from every neighbour b within 2h.
+// Fluid a: continuity (+ DDT with fluid b), pressure, viscosity, shifting sums. Boundary a
+// (DBC, eq. 42): continuity from fluid neighbours only.
+template <class T, class Kernel, class Ddt, class Visc, bool kShift>
+struct SphInteraction {
+  neighbors::CellListView<T> cells;
+  SphView<T> p;
+  Kernel kernel;
+  Ddt ddt;
+  Visc visc;
+  T mass;       // of every particle, rho0 dp^Dim
+  T support2;   // (2h)^2
+  T eta2;
+  Vec3<T> up;   // unit vector along -g (heights for Fourtakas DDT)
+
+  MILLSIM_HD void operator()(int a) const {
+    const int code_a = p.code[a];
+    if (isExcluded(code_a)) return;
+    const bool a_fluid = code_a == kFluid;
+    const Vec3<T> xa = p.pos[a], va = p.vel[a];
+    const T rho_a = p.rho[a], press_a = p.press[a];
+    Sym3<T> tau_a = zeroSym3<T>();
+    if constexpr (Visc::kNeedsStrain) tau_a = p.tau[a];
+    T drho = T(0), visc_max = T(0), div_r = T(0);
+    Vec3<T> acc = core::zero3<T>(), grad_c = core::zero3<T>();
+    Sym3<T> strain = zeroSym3<T>();
+    cells.forEachCandidate(xa, [&](int b) {
+      if (b == a) return;
+      const int code_b = p.code[b];
+      const bool b_fluid = code_b == kFluid;
+      if (!a_fluid && !b_fluid) return;
+      const Vec3<T> r_ab = xa - p.pos[b];
+      const T r2 = core::norm2(r_ab);
+      if (r2 >= support2 || r2 <= T(0)) return;
+      const T fac = kernel.fac(std::sqrt(r2));
+      const Vec3<T> grad = fac * r_ab;
+      const Vec3<T> v_ab = va - p.vel[b];
+      const T rho_b = p.rho[b];
+      const T vol_b = mass / rho_b;
+      drho += rho_a * vol_b * core::dot(v_ab, grad);
+      const T vr = kernel.h * core::dot(v_ab, r_ab) / (r2 + eta2);
+      visc_max = visc_max > (vr < T(0) ? -vr : vr) ? visc_max : (vr < T(0) ? -vr : vr);
+      if (!a_fluid) return;
+      acc -= (mass * (press_a + p.press[b]) / (rho_a * rho_b)) * grad;
+      Sym3<T> tau_b = zeroSym3<T>();
+      if constexpr (Visc::kNeedsStrain) tau_b = p.tau[b];
+      acc += visc(r_ab, v_ab, r2, fac, rho_a, rho_b, mass, !b_fluid, tau_a, tau_b);
+      if constexpr (Ddt::kActive) {
+        if (b_fluid) drho += ddt(rho_a, rho_b, core::dot(up, r_ab), r2, fac, vol_b);
+      }
+      if constexpr (kShift) {
+        grad_c += vol_b * grad;
+        div_r -= vol_b * fac * r2;
+      }
+      if constexpr (Visc::kNeedsStrain) addStrain(strain, -v_ab, grad, vol_b);
+    });
+    p.drho[a] = drho;
+    p.visc_dt[a] = visc_max;
+    p.ace[a] = acc;
+    if constexpr (kShift) {
+      p.shift_grad[a] = grad_c;
+      p.shift_div[a] = div_r;
+    }
+    if constexpr (Visc::kNeedsStrain) p.strain[a] = strain;
+  }
+};
+
+template <class T>
+struct SpsUpdate {
+  SpsStress<T> sps;
+  const Sym3<T>* strain;
+  const T* rho;
+  const int* code;
+  Sym3<T>* tau;
+  MILLSIM_HD void operator()(int i) const {
+    tau[i] = code[i] == kFluid ? sps(strain[i], rho[i]) : zeroSym3<T>();
+  }
+};
+
+// |dv/dt + g| of fluid particles (force condition of the time step, eq. 40).
+template <class T>
+struct FluidAcceleration {
+  const Vec3<T>* ace;
+  const int* code;
+  Vec3<T> g;
+  MILLSIM_HD T operator()(int i) const { return code[i] == kFluid ? core::norm(ace[i] + g) : T(0); }
+};
+
+template <class T>
+struct ReadVisc {
+  const T* visc;
+  const int* code;
+  MILLSIM_HD T operator()(int i) const { return isExcluded(code[i]) ? T(0) : visc[i]; }
+};
+
+// Imposed motion of moving boundaries: rotation about the z axis through `center` by `theta`
+// (rad) from the initial position, at angular velocity `omega` (rad/s).
+template <class T>
+struct BoundaryMotion {
+  Vec3<T> center;
+  T cos_t, sin_t, omega;
+  MILLSIM_HD void apply(Vec3<T> x0, Vec3<T>& x, Vec3<T>& v) const {
+    const T dx = x0.x - center.x, dy = x0.y - center.y;
+    x = {center.x + cos_t * dx - sin_t * dy, center.y + sin_t * dx + cos_t * dy, x0.z};
+    v = {-omega * (x.y - center.y), omega * (x.x - center.x), T(0)};
+  }
+};
+
+// Shared by the integrators: limits that exclude a fluid particle, and the shifting displacement.
+template <class T>
+struct FluidChecks {
+  T rho_min, rho_max;
+  Vec3<T> lo, hi;
+  // Fickian shifting (Lind et al. 2012, eqs. 44-45): dr = -A_s h |v| dt grad C, off where the
+  // particle sees a free surface (div r < tfs).
+  T shift_ah;  // A_s h
+  T shift_tfs;
+
+  MILLSIM_HD int code(Vec3<T> x, T rho) const {
+    if (!(rho >= rho_min && rho <= rho_max)) return kExcludedDensity;  // also NaN
+    if (!(x.x >= lo.x && x.x <= hi.x && x.y >= lo.y && x.y <= hi.y && x.z >= lo.z && x.z <= hi.z))
+      return kExcludedDomain;
+    return kFluid;
+  }
+  MILLSIM_HD Vec3<T> shift(Vec3<T> v, T dt, Vec3<T> grad_c, T div_r) const {
+    if (div_r < shift_tfs) return core::zero3<T>();
+    return (-shift_ah * core::norm(v) * dt) * grad_c;
+  }
+};
+
+// Verlet (paper's scheme, DualSPHysics ComputeVerlet): normal steps leap-frog over two steps,
+// every Ns-th step is an Euler step that re-couples the two chains.
+template <class T, bool kShift>
+struct VerletUpdate {
+  SphView<T> p;
+  Vec3<T>* vel_m1;
+  T* rho_m1;
+  const Vec3<T>* pos0;  // initial positions (moving boundaries only)
+  BoundaryMotion<T> motion;
+  FluidChecks<T> checks;
+  Vec3<T> g;
+  T dt, rho0;
+  bool euler;
+
+  MILLSIM_HD void operator()(int a) const {
+    const int code = p.code[a];
+    if (isExcluded(code)) return;
+    const T rho = p.rho[a];
+    const T rho_new = euler ? rho + dt * p.drho[a] : rho_m1[a] + T(2) * dt * p.drho[a];
+    rho_m1[a] = rho;
+    if (code != kFluid) {
+      // DBC: density by continuity, never below rho0 (fluid must not be sucked into a wall).
+      p.rho[a] = rho_new > rho0 ? rho_new : rho0;
+      if (code == kBoundMoving) motion.apply(pos0[a], p.pos[a], p.vel[a]);
+      return;
+    }
+    const Vec3<T> acc = p.ace[a] + g;
+    const Vec3<T> v = p.vel[a];
+    const Vec3<T> v_new = euler ? v + dt * acc : vel_m1[a] + (T(2) * dt) * acc;
+    Vec3<T> dx = dt * v + (T(0.5) * dt * dt) * acc;
+    if constexpr (kShift) dx += checks.shift(v, dt, p.shift_grad[a], p.shift_div[a]);
+    vel_m1[a] = v;
+    p.vel[a] = v_new;
+    p.rho[a] = rho_new;
+    p.pos[a] += dx;
+    p.code[a] = checks.code(p.pos[a], rho_new);
+  }
+};
+
+// Symplectic position Verlet (eqs. 33-39), predictor half: state n kept in the *_pre arrays,
+// the particle moved to n + 1/2 where the second force evaluation happens.
+template <class T>
+struct SymplecticPredictor {
+  SphView<T> p;
+  Vec3<T>* pos_pre;
+  Vec3<T>* vel_pre;
+  T* rho_pre;
+  const Vec3<T>* pos0;
+  BoundaryMotion<T> motion;  // at t + dt/2
+  Vec3<T> g;
+  T dt, rho0;
+
+  MILLSIM_HD void operator()(int a) const {
+    const int code = p.code[a];
+    if (isExcluded(code)) return;
+    const T h = T(0.5) * dt;
+    pos_pre[a] = p.pos[a];
+    vel_pre[a] = p.vel[a];
+    rho_pre[a] = p.rho[a];
+    const T rho_half = p.rho[a] + h * p.drho[a];
+    if (code != kFluid) {
+      p.rho[a] = rho_half > rho0 ? rho_half : rho0;
+      if (code == kBoundMoving) motion.apply(pos0[a], p.pos[a], p.vel[a]);
+      return;
+    }
+    p.rho[a] = rho_half;
+    p.pos[a] += h * p.vel[a];
+    p.vel[a] += h * (p.ace[a] + g);
+  }
+};
+
+template <class T, bool kShift>
+struct SymplecticCorrector {
+  SphView<T> p;
+  const Vec3<T>* pos_pre;
+  const Vec3<T>* vel_pre;
+  const T* rho_pre;
+  const Vec3<T>* pos0;
+  BoundaryMotion<T> motion;  // at t + dt
+  FluidChecks<T> checks;
+  Vec3<T> g;
+  T dt, rho0;
+
+  MILLSIM_HD void operator()(int a) const {
+    const int code = p.code[a];
+    if (isExcluded(code)) return;
+    const T eps = -p.drho[a] / p.rho[a] * dt;
+    const T rho_new = rho_pre[a] * (T(2) - eps) / (T(2) + eps);
+    if (code != kFluid) {
+      p.rho[a] = rho_new > rho0 ? rho_new : rho0;
+      if (code == kBoundMoving) motion.apply(pos0[a], p.pos[a], p.vel[a]);
+      return;
+    }
+    const Vec3<T> v_new = vel_pre[a] + dt * (p.ace[a] + g);
+    Vec3<T> x_new = pos_pre[a] + (T(0.5) * dt) * (vel_pre[a] + v_new);
+    if constexpr (kShift) x_new += checks.shift(v_new, dt, p.shift_grad[a], p.shift_div[a]);
+    p.vel[a] = v_new;
+    p.rho[a] = rho_new;
+    p.pos[a] = x_new;
+    p.code[a] = checks.code(x_new, rho_new);
+  }
+};
+
+}  // namespace millsim::sph

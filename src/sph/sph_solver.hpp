@@ -1,0 +1,432 @@
+#pragma once
+// SphSolver<Space, T, Dim>: owns the SPH arrays in the execution space's memory and runs the
+// functors of sph_kernels.hpp through the backend. Written once; instantiated for OpenMP in
+// sph_solver_omp.cpp and for CUDA in backend/cuda/sph_solver_cuda.cu.
+//
+// Particles are renumbered in cell order before every force evaluation (the cell sort is done
+// anyway, and it keeps neighbours close in memory); m_id keeps each particle's host number.
+// Excluded particles sort to the end and no search finds them.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "millsim/core/error.hpp"
+#include "millsim/neighbors/cell_list.hpp"
+#include "sph/density_diffusion.hpp"
+#include "sph/kernels.hpp"
+#include "sph/sph_engine.hpp"
+#include "sph/sph_kernels.hpp"
+
+namespace millsim::sph {
+
+template <class U>
+struct GatherArray {
+  const U* src;
+  U* dst;
+  const int* order;
+  MILLSIM_HD void operator()(int i) const { dst[i] = src[order[i]]; }
+};
+
+template <class T>
+struct FluidSum {
+  const Vec3<T>* pos;
+  const Vec3<T>* vel;
+  const int* code;
+  Vec3<T> g;
+  T mass;
+  int what;  // 0 kinetic, 1 potential, 2 fluid count, 3 excluded density, 4 excluded domain, 5 boundary
+  MILLSIM_HD double operator()(int i) const {
+    const int c = code[i];
+    switch (what) {
+      case 0: return c == kFluid ? 0.5 * double(mass) * double(core::norm2(vel[i])) : 0.0;
+      case 1: return c == kFluid ? -double(mass) * double(core::dot(g, pos[i])) : 0.0;
+      case 2: return c == kFluid ? 1.0 : 0.0;
+      case 3: return c == kExcludedDensity ? 1.0 : 0.0;
+      case 4: return c == kExcludedDomain ? 1.0 : 0.0;
+      default: return c == kBoundFixed || c == kBoundMoving ? 1.0 : 0.0;
+    }
+  }
+};
+
+template <class T>
+struct FluidMax {
+  const Vec3<T>* pos;
+  const Vec3<T>* vel;
+  const T* rho;
+  const int* code;
+  int what;  // 0 speed, 1 x, 2 rho, 3 -rho
+  MILLSIM_HD double operator()(int i) const {
+    if (code[i] != kFluid) return -1e300;
+    switch (what) {
+      case 0: return std::sqrt(double(core::norm2(vel[i])));
+      case 1: return double(pos[i].x);
+      case 2: return double(rho[i]);
+      default: return -double(rho[i]);
+    }
+  }
+};
+
+// Shepard interpolation of the fluid pressure at a point: numerator (P W V) or denominator (W V).
+template <class T, class Kernel>
+struct ProbeSum {
+  const Vec3<T>* pos;
+  const T* rho;
+  const T* press;
+  const int* code;
+  Kernel kernel;
+  Vec3<T> x;
+  T mass, support2;
+  bool numerator;
+  MILLSIM_HD double operator()(int i) const {
+    if (code[i] != kFluid) return 0.0;
+    const T r2 = core::norm2(x - pos[i]);
+    if (r2 >= support2) return 0.0;
+    const double wv = double(kernel.w(std::sqrt(r2))) * double(mass) / double(rho[i]);
+    return numerator ? wv * double(press[i]) : wv;
+  }
+};
+
+template <class T>
+struct ReadT {
+  const T* v;
+  MILLSIM_HD T operator()(int i) const { return v[i]; }
+};
+
+template <class Space, class T, int Dim>
+class SphSolver final : public SphEngine {
+ public:
+  explicit SphSolver(const SphSetup& s) : m_setup(s) {
+    if (s.dp <= 0 || s.h <= 0 || s.c0 <= 0) throw core::InputError("sph: dp, h and c0 must be > 0");
+    m_mass = T(s.rho0 * std::pow(s.dp, Dim));
+    m_eos = TaitEos<T>::make(s.rho0, s.c0, s.gamma);
+    m_eta2 = T(s.eta2_factor * s.h * s.h);
+    m_support2 = T(4 * s.h * s.h);
+    m_gravity = toVec(s.gravity);
+    const double g = std::sqrt(s.gravity[0] * s.gravity[0] + s.gravity[1] * s.gravity[1] + s.gravity[2] * s.gravity[2]);
+    m_up = g > 0 ? Vec3<T>{T(-s.gravity[0] / g), T(-s.gravity[1] / g), T(-s.gravity[2] / g)} : core::zero3<T>();
+    m_g_abs = g;
+    Vec3<T> lo = toVec(s.domain_lo), hi = toVec(s.domain_hi);
+    if (Dim == 2) {
+      lo.z = T(-1);
+      hi.z = T(1);
+    }
+    m_lo = lo;
+    m_hi = hi;
+    m_cells.setGrid(neighbors::makeGrid<T>(lo, hi, T(2 * s.h), Dim == 2));
+    m_symplectic = s.integrator == "symplectic";
+  }
+
+  const char* backendName() const override { return Space::kName; }
+  const char* precisionName() const override { return sizeof(T) == 4 ? "float" : "double"; }
+
+  void setState(const SphHostState& s) override {
+    const std::size_t n = s.size();
+    m_n = static_cast<int>(n);
+    std::vector<Vec3<T>> pos(n), vel(n);
+    std::vector<T> rho(n);
+    std::vector<int> id(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      pos[i] = {T(s.pos[3 * i]), T(s.pos[3 * i + 1]), Dim == 2 ? T(0) : T(s.pos[3 * i + 2])};
+      vel[i] = {T(s.vel[3 * i]), T(s.vel[3 * i + 1]), Dim == 2 ? T(0) : T(s.vel[3 * i + 2])};
+      rho[i] = T(s.rho[i]);
+      id[i] = static_cast<int>(i);
+    }
+    m_has_moving = std::find(s.code.begin(), s.code.end(), int(kBoundMoving)) != s.code.end();
+    m_pos.copyFromHost(pos);
+    m_vel.copyFromHost(vel);
+    m_rho.copyFromHost(rho);
+    m_code.copyFromHost(s.code);
+    m_id.copyFromHost(id);
+    // Only what the chosen options need is allocated.
+    if (m_has_moving) m_pos0.copyFromHost(pos);
+    if (m_symplectic) {
+      m_pos_pre.resize(n, core::zero3<T>());
+      m_vel_pre.resize(n, core::zero3<T>());
+      m_rho_pre.resize(n, T(0));
+    } else {
+      m_vel_m1.copyFromHost(vel);
+      m_rho_m1.copyFromHost(rho);
+    }
+    m_press.resize(n, T(0));
+    m_ace.resize(n, core::zero3<T>());
+    m_drho.resize(n, T(0));
+    m_visc.resize(n, T(0));
+    if (m_setup.shifting) {
+      m_shift_grad.resize(n, core::zero3<T>());
+      m_shift_div.resize(n, T(0));
+    }
+    if (m_setup.viscosity == "laminar_sps") {
+      m_strain.resize(n, zeroSym3<T>());
+      m_tau.resize(n, zeroSym3<T>());
+    }
+    m_scratch_vec.resize(n, core::zero3<T>());
+    m_scratch_real.resize(n, T(0));
+    m_scratch_int.resize(n, 0);
+    m_scratch_sym.resize(m_tau.size(), zeroSym3<T>());
+    m_step = 0;
+  }
+
+  void getState(SphHostState& s) const override {
+    std::vector<Vec3<T>> pos, vel;
+    std::vector<T> rho;
+    std::vector<int> code, id;
+    m_pos.copyToHost(pos);
+    m_vel.copyToHost(vel);
+    m_rho.copyToHost(rho);
+    m_code.copyToHost(code);
+    m_id.copyToHost(id);
+    const std::size_t n = pos.size();
+    s.pos.assign(3 * n, 0.0);
+    s.vel.assign(3 * n, 0.0);
+    s.rho.assign(n, 0.0);
+    s.code.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t h = static_cast<std::size_t>(id[i]);
+      s.pos[3 * h] = double(pos[i].x);
+      s.pos[3 * h + 1] = double(pos[i].y);
+      s.pos[3 * h + 2] = double(pos[i].z);
+      s.vel[3 * h] = double(vel[i].x);
+      s.vel[3 * h + 1] = double(vel[i].y);
+      s.vel[3 * h + 2] = double(vel[i].z);
+      s.rho[h] = double(rho[i]);
+      s.code[h] = code[i];
+    }
+  }
+
+  void initialize(const SphMotion& now) override {
+    if (m_has_moving) placeMovingBoundaries(now);
+    forces();
+  }
+
+  double nextDt() const override {
+    if (m_setup.fixed_dt) return m_setup.dt_fixed;
+    const double acc = backend::reduceMax<T>(Space{}, m_n, T(0), FluidAcceleration<T>{m_ace.data(), m_code.data(), m_gravity});
+    const double visc = backend::reduceMax<T>(Space{}, m_n, T(0), ReadVisc<T>{m_visc.data(), m_code.data()});
+    const double h = m_setup.h;
+    // Eq. 40 with the force condition as sqrt(h / |a|) (DualSPHysics; the paper prints h / |a|,
+    // which is not a time).
+    const double dt_f = acc > 0 ? std::sqrt(h / acc) : std::numeric_limits<double>::infinity();
+    const double dt_c = h / (m_setup.c0 + visc);
+    const double dt = m_setup.cfl * std::min(dt_f, dt_c);
+    if (!std::isfinite(dt) || dt <= 0)
+      throw core::SimulationError("SPH: time step is not finite (NaN in accelerations or velocities)");
+    return dt;
+  }
+
+  void step(double dt_in, const SphMotion& half, const SphMotion& end) override {
+    const T dt = T(dt_in);
+    const FluidChecks<T> checks{T(m_setup.rho_min), T(m_setup.rho_max), m_lo, m_hi,
+                                T(m_setup.shift_coef * m_setup.h), T(m_setup.shift_tfs)};
+    const SphView<T> p = view();
+    if (!m_symplectic) {
+      const bool euler = m_setup.verlet_steps > 0 && (m_step + 1) % m_setup.verlet_steps == 0;
+      withShift([&](auto shift) {
+        backend::parallelFor(Space{}, m_n,
+                             VerletUpdate<T, decltype(shift)::value>{p, m_vel_m1.data(), m_rho_m1.data(), m_pos0.data(),
+                                                                     motionOf(end), checks, m_gravity, dt, m_eos.rho0,
+                                                                     euler});
+      });
+      forces();
+    } else {
+      backend::parallelFor(Space{}, m_n,
+                           SymplecticPredictor<T>{p, m_pos_pre.data(), m_vel_pre.data(), m_rho_pre.data(), m_pos0.data(),
+                                                  motionOf(half), m_gravity, dt, m_eos.rho0});
+      forces();
+      const SphView<T> q = view();  // arrays were renumbered by forces()
+      withShift([&](auto shift) {
+        backend::parallelFor(Space{}, m_n,
+                             SymplecticCorrector<T, decltype(shift)::value>{
+                                 q, m_pos_pre.data(), m_vel_pre.data(), m_rho_pre.data(), m_pos0.data(), motionOf(end),
+                                 checks, m_gravity, dt, m_eos.rho0});
+      });
+      forces();
+    }
+    ++m_step;
+  }
+
+  SphSums sums() const override {
+    SphSums s;
+    auto sum = [&](int what) {
+      return backend::reduceSum<double>(Space{}, m_n,
+                                        FluidSum<T>{m_pos.data(), m_vel.data(), m_code.data(), m_gravity, m_mass, what});
+    };
+    auto most = [&](int what) {
+      return backend::reduceMax<double>(Space{}, m_n, -1e300,
+                                        FluidMax<T>{m_pos.data(), m_vel.data(), m_rho.data(), m_code.data(), what});
+    };
+    s.kinetic = sum(0);
+    s.potential = sum(1);
+    s.fluid = std::llround(sum(2));
+    s.excluded_density = std::llround(sum(3));
+    s.excluded_domain = std::llround(sum(4));
+    s.boundary = std::llround(sum(5));
+    s.fluid_mass = double(m_mass) * double(s.fluid);
+    if (s.fluid > 0) {
+      s.max_speed = most(0);
+      s.max_x = most(1);
+      s.rho_max = most(2);
+      s.rho_min = -most(3);
+    }
+    return s;
+  }
+
+  double probePressure(const std::array<double, 3>& x_in) const override {
+    const Vec3<T> x{T(x_in[0]), T(x_in[1]), Dim == 2 ? T(0) : T(x_in[2])};
+    double num = 0, den = 0;
+    withKernel([&](auto kernel) {
+      using K = decltype(kernel);
+      num = backend::reduceSum<double>(Space{}, m_n,
+                                       ProbeSum<T, K>{m_pos.data(), m_rho.data(), m_press.data(), m_code.data(), kernel,
+                                                      x, m_mass, m_support2, true});
+      den = backend::reduceSum<double>(Space{}, m_n,
+                                       ProbeSum<T, K>{m_pos.data(), m_rho.data(), m_press.data(), m_code.data(), kernel,
+                                                      x, m_mass, m_support2, false});
+    });
+    return den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  std::map<std::string, std::size_t> memoryBytes() const override {
+    return {{"sph.particles", m_pos.bytes() + m_vel.bytes() + m_rho.bytes() + m_code.bytes() + m_id.bytes() +
+                                  m_pos0.bytes()},
+            {"sph.integrator", m_vel_m1.bytes() + m_rho_m1.bytes() + m_pos_pre.bytes() + m_vel_pre.bytes() +
+                                   m_rho_pre.bytes()},
+            {"sph.forces", m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes()},
+            {"sph.shifting", m_shift_grad.bytes() + m_shift_div.bytes()},
+            {"sph.sps", m_strain.bytes() + m_tau.bytes()},
+            {"sph.reorder_scratch", m_scratch_vec.bytes() + m_scratch_real.bytes() + m_scratch_int.bytes() +
+                                        m_scratch_sym.bytes()},
+            {"neighbors", m_cells.bytes()}};
+  }
+
+ private:
+  template <bool B>
+  struct Flag {
+    static constexpr bool value = B;
+  };
+
+  static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
+
+  SphView<T> view() {
+    return {m_pos.data(),   m_vel.data(),        m_rho.data(),       m_code.data(),   m_press.data(), m_ace.data(),
+            m_drho.data(),  m_visc.data(),       m_shift_grad.data(), m_shift_div.data(), m_strain.data(), m_tau.data()};
+  }
+
+  BoundaryMotion<T> motionOf(const SphMotion& m) const {
+    const Vec3<T> c = toVec(m_setup.motion_center);
+    return {c, T(std::cos(m.theta)), T(std::sin(m.theta)), T(m.omega)};
+  }
+
+  void placeMovingBoundaries(const SphMotion& m) {
+    struct Place {
+      const Vec3<T>* pos0;
+      Vec3<T>* pos;
+      Vec3<T>* vel;
+      const int* code;
+      BoundaryMotion<T> motion;
+      MILLSIM_HD void operator()(int i) const {
+        if (code[i] == kBoundMoving) motion.apply(pos0[i], pos[i], vel[i]);
+      }
+    };
+    backend::parallelFor(Space{}, m_n, Place{m_pos0.data(), m_pos.data(), m_vel.data(), m_code.data(), motionOf(m)});
+  }
+
+  // One choice per option, each a compile-time type: the pair loop holds only what is on.
+  template <class F>
+  void withKernel(F&& f) const {
+    if (m_setup.kernel == "cubic")
+      f(CubicSpline<Dim, T>::make(m_setup.h));
+    else
+      f(WendlandC2<Dim, T>::make(m_setup.h));
+  }
+  template <class F>
+  void withDdt(F&& f) const {
+    const T coef = T(2 * m_setup.ddt_value * m_setup.h * m_setup.c0);
+    if (m_setup.ddt == "fourtakas")
+      f(DdtFourtakas2019<T>{coef, m_eta2, m_eos.rho0, T(m_setup.rho0 * m_g_abs / double(m_eos.b)),
+                            T(1.0 / m_setup.gamma)});
+    else if (m_setup.ddt == "molteni")
+      f(DdtMolteni2009<T>{coef, m_eta2});
+    else
+      f(DdtNone{});
+  }
+  template <class F>
+  void withVisc(F&& f) const {
+    if (m_setup.viscosity == "laminar_sps")
+      f(ViscosityLaminarSps<T>{T(m_setup.nu), m_eta2});
+    else
+      f(ViscosityArtificial<T>{T(m_setup.alpha), T(m_setup.alpha * m_setup.visco_bound_factor), T(m_setup.h),
+                               T(m_setup.c0), m_eta2});
+  }
+  template <class F>
+  void withShift(F&& f) const {
+    if (m_setup.shifting)
+      f(Flag<true>{});
+    else
+      f(Flag<false>{});
+  }
+
+  template <class U>
+  void gather(backend::Array<Space, U>& a, backend::Array<Space, U>& scratch, const int* order) {
+    if (a.size() == 0) return;
+    backend::parallelFor(Space{}, m_n, GatherArray<U>{a.data(), scratch.data(), order});
+    a.swap(scratch);
+  }
+
+  // Cell sort, renumbering of the particle state in cell order, pressure, interaction.
+  void forces() {
+    m_cells.build(m_pos.data(), m_n, m_code.data(), kExcludedDensity);
+    const int* order = m_cells.view().order;
+    gather(m_pos, m_scratch_vec, order);
+    gather(m_vel, m_scratch_vec, order);
+    gather(m_pos0, m_scratch_vec, order);
+    gather(m_vel_m1, m_scratch_vec, order);
+    gather(m_pos_pre, m_scratch_vec, order);
+    gather(m_vel_pre, m_scratch_vec, order);
+    gather(m_rho, m_scratch_real, order);
+    gather(m_rho_m1, m_scratch_real, order);
+    gather(m_rho_pre, m_scratch_real, order);
+    gather(m_tau, m_scratch_sym, order);
+    gather(m_id, m_scratch_int, order);
+    gather(m_code, m_scratch_int, order);
+    m_cells.renumberedInOrder();
+    backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
+    const SphView<T> p = view();
+    withKernel([&](auto kernel) {
+      withDdt([&](auto ddt) {
+        withVisc([&](auto visc) {
+          withShift([&](auto shift) {
+            using Interaction = SphInteraction<T, decltype(kernel), decltype(ddt), decltype(visc), decltype(shift)::value>;
+            backend::parallelFor(Space{}, m_n, Interaction{m_cells.view(), p, kernel, ddt, visc, m_mass, m_support2, m_eta2, m_up});
+          });
+        });
+      });
+    });
+    if (m_setup.viscosity == "laminar_sps") {
+      const double dp = m_setup.dp;
+      const SpsStress<T> sps{T(m_setup.sps_cs * m_setup.sps_cs * dp * dp), T(2.0 / 3.0 * m_setup.sps_ci * dp * dp)};
+      backend::parallelFor(Space{}, m_n, SpsUpdate<T>{sps, m_strain.data(), m_rho.data(), m_code.data(), m_tau.data()});
+    }
+  }
+
+  SphSetup m_setup;
+  int m_n = 0;
+  long long m_step = 0;
+  bool m_symplectic = false, m_has_moving = false;
+  T m_mass = 0, m_eta2 = 0, m_support2 = 0;
+  double m_g_abs = 0;
+  TaitEos<T> m_eos;
+  Vec3<T> m_gravity{}, m_up{}, m_lo{}, m_hi{};
+  neighbors::CellList<Space, T> m_cells;
+  backend::Array<Space, Vec3<T>> m_pos, m_vel, m_pos0, m_vel_m1, m_pos_pre, m_vel_pre, m_ace, m_shift_grad;
+  backend::Array<Space, T> m_rho, m_rho_m1, m_rho_pre, m_press, m_drho, m_visc, m_shift_div;
+  backend::Array<Space, int> m_code, m_id;
+  backend::Array<Space, Sym3<T>> m_strain, m_tau;
+  backend::Array<Space, Vec3<T>> m_scratch_vec;
+  backend::Array<Space, T> m_scratch_real;
+  backend::Array<Space, int> m_scratch_int;
+  backend::Array<Space, Sym3<T>> m_scratch_sym;
+};
+
+}  // namespace millsim::sph
