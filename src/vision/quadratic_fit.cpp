@@ -82,13 +82,30 @@ double studentTQuantile(double p, double dof) {
   return 0.5 * (lo + hi);
 }
 
-double QuadraticFit::halfWidth(double x) const {
+double fisherFQuantile(double p, double d1, double d2) {
+  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("fisherFQuantile: p must lie in (0, 1)");
+  if (!(d1 > 0.0) || !(d2 > 0.0)) throw std::invalid_argument("fisherFQuantile: dof must be positive");
+  auto cdf = [&](double f) { return incompleteBeta(0.5 * d1, 0.5 * d2, d1 * f / (d1 * f + d2)); };
+  double lo = 0.0, hi = 4.0;
+  while (cdf(hi) < p && hi < 1e12) hi *= 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-13 * std::max(1.0, hi); ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (cdf(mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double QuadraticFit::standardError(double x) const {
   const double f[3] = {1.0, x, x * x};
   double v = 0.0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) v += f[i] * covariance[3 * i + j] * f[j];
-  return t_quantile * std::sqrt(std::max(0.0, v));
+  return std::sqrt(std::max(0.0, v));
 }
+
+double QuadraticFit::halfWidth(double x) const { return t_quantile * standardError(x); }
+
+double QuadraticFit::simultaneousHalfWidth(double x) const { return scheffe_factor * standardError(x); }
 
 QuadraticFit fitQuadratic(const std::vector<double>& x, const std::vector<double>& y, const std::vector<int>& group,
                           double confidence) {
@@ -149,6 +166,7 @@ QuadraticFit fitQuadratic(const std::vector<double>& x, const std::vector<double
     fit.dof = n - 3.0;
   }
   fit.t_quantile = studentTQuantile(0.5 * (1.0 + confidence), fit.dof);
+  fit.scheffe_factor = std::sqrt(3.0 * fisherFQuantile(confidence, 3.0, fit.dof));
 
   // Back to x: (1, u, u^2) = T (1, x, x^2) with u = (x - m)/s, so c = T' b and V_c = T' V_b T.
   Eigen::Matrix3d T;

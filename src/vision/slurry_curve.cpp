@@ -134,13 +134,13 @@ void writeSlurryCurveCsv(const std::string& path, const SlurryCurve& c, double s
   if (!(step_mm > 0.0)) throw std::invalid_argument("writeSlurryCurveCsv: step must be positive");
   std::ofstream out(path);
   if (!out) throw core::InputError(path + ": cannot write");
-  out << "x_mm,y_fit_mm,y_low_mm,y_high_mm\n";
+  out << "x_mm,y_fit_mm,y_low_mm,y_high_mm,y_low_simultaneous_mm,y_high_simultaneous_mm\n";
   char buf[128];
   const int n = static_cast<int>(std::floor((c.x_max_mm - c.x_min_mm) / step_mm + 1e-9));
   for (int i = 0; i <= n; ++i) {
     const double x = std::min(c.x_max_mm, c.x_min_mm + i * step_mm);
-    const double y = c.fit.value(x), hw = c.fit.halfWidth(x);
-    std::snprintf(buf, sizeof buf, "%.3f,%.4f,%.4f,%.4f\n", x, y, y - hw, y + hw);
+    const double y = c.fit.value(x), hw = c.fit.halfWidth(x), hs = c.fit.simultaneousHalfWidth(x);
+    std::snprintf(buf, sizeof buf, "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f\n", x, y, y - hw, y + hw, y - hs, y + hs);
     out << buf;
   }
 }

@@ -47,7 +47,7 @@ ImageRgb drawSlurryOverlay(const ImageRgb& background, const SlurryCurve& c, con
     cv::circle(img, toImage(A, p.x_mm, p.y_mm), dot, cv::Scalar(150, 150, 150), cv::FILLED, cv::LINE_8, kShift);
   for (const SurfacePoint& p : c.used)
     cv::circle(img, toImage(A, p.x_mm, p.y_mm), dot, cv::Scalar(0, 140, 255), cv::FILLED, cv::LINE_8, kShift);
-  std::vector<cv::Point> mid, lo, hi;
+  std::vector<cv::Point> mid, lo, hi, slo, shi;
   const int n = 200;
   for (int i = 0; i <= n; ++i) {
     const double x = c.x_min_mm + (c.x_max_mm - c.x_min_mm) * i / n;
@@ -55,7 +55,12 @@ ImageRgb drawSlurryOverlay(const ImageRgb& background, const SlurryCurve& c, con
     mid.push_back(toImage(A, x, y));
     lo.push_back(toImage(A, x, y - hw));
     hi.push_back(toImage(A, x, y + hw));
+    const double hs = c.fit.simultaneousHalfWidth(x);
+    slo.push_back(toImage(A, x, y - hs));
+    shi.push_back(toImage(A, x, y + hs));
   }
+  cv::polylines(img, slo, false, cv::Scalar(200, 120, 40), 1, cv::LINE_AA, kShift);
+  cv::polylines(img, shi, false, cv::Scalar(200, 120, 40), 1, cv::LINE_AA, kShift);
   cv::polylines(img, lo, false, cv::Scalar(255, 200, 120), thick, cv::LINE_AA, kShift);
   cv::polylines(img, hi, false, cv::Scalar(255, 200, 120), thick, cv::LINE_AA, kShift);
   cv::polylines(img, mid, false, cv::Scalar(255, 255, 255), thick + 1, cv::LINE_AA, kShift);

@@ -181,13 +181,13 @@ cv::Mat renderFrame(const MillScene& sc, int index) {
       } else {
         c = {50, 48, 46};
         // Bolt heads on the back plate, turning with the drum.
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < 6 && std::abs(r - 0.62 * R) < 4.0; ++k) {
           const double a = phi + 2 * kPi * k / 6;
           if (std::hypot(x - 0.62 * R * std::cos(a), y - 0.62 * R * std::sin(a)) < 4.0) c = {96, 94, 92};
         }
         // Lifters: boxes on the shell.
-        const double ang = std::atan2(y, x);
-        for (int k = 0; k < sc.lifters; ++k) {
+        const double ang = r > R - sc.lifter_height_mm ? std::atan2(y, x) : 0.0;
+        for (int k = 0; k < sc.lifters && r > R - sc.lifter_height_mm; ++k) {
           const double a = phi + 2 * kPi * k / sc.lifters;
           double da = std::remainder(ang - a, 2 * kPi);
           const double tang = r * std::sin(da), rad = r * std::cos(da);

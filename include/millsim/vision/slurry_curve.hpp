@@ -34,7 +34,8 @@ SlurryCurve fitSlurryCurve(const std::vector<SurfacePoint>& points, double outli
 // unknown header, a malformed number, or pixel points without a view.
 std::vector<SurfacePoint> readSurfacePointsCsv(const std::string& path, const MillView* view);
 
-// x_mm,y_fit_mm,y_low_mm,y_high_mm every step_mm over [x_min, x_max]. Throws core::InputError
+// x_mm,y_fit_mm,y_low_mm,y_high_mm (pointwise band), y_low_simultaneous_mm,
+// y_high_simultaneous_mm (simultaneous band) every step_mm over [x_min, x_max]. Throws core::InputError
 // if the file cannot be written.
 void writeSlurryCurveCsv(const std::string& path, const SlurryCurve& curve, double step_mm = 1.0);
 // x_mm,y_mm,frame,used of every point.

@@ -30,7 +30,8 @@ struct SlurryMeasurement {
 SlurryMeasurement measureVideoSlurry(const FrameSequence& seq, const VideoSlurryOptions& options);
 
 // The overlay of a curve: points used (orange), outliers (grey), the fitted curve (white), the
-// band (light blue), the drum circles (cyan) and the equation. `mm_to_image` is the affine map
+// pointwise band (light blue), the simultaneous band (thin, darker blue), the drum circles
+// (cyan) and the equation. `mm_to_image` is the affine map
 // from mill millimetres (x right, y up) to image pixels, row-major 2 x 3.
 ImageRgb drawSlurryOverlay(const ImageRgb& background, const SlurryCurve& curve, const std::array<double, 6>& mm_to_image,
                            const std::vector<double>& circle_radii_mm);
