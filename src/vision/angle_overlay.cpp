@@ -40,7 +40,8 @@ ImageRgb heatmapColour(const ImageF& heat) {
 
 ImageRgb drawAngleOverlay(const ImageRgb& background, const AngleResult& r, double ppmm, const OverlayLayout& layout) {
   if (!(ppmm > 0.0)) throw std::invalid_argument("drawAngleOverlay: ppmm must be positive");
-  if (background.width <= 0 || background.height <= 0) throw std::invalid_argument("drawAngleOverlay: empty background");
+  if (background.width <= 0 || background.height <= 0)
+    throw std::invalid_argument("drawAngleOverlay: empty background");
   cv::Mat img = detail::toBgr(background);
   const auto& A = layout.view_to_image;
   const double scale = std::sqrt(std::abs(A[0] * A[4] - A[1] * A[3]));  // view px -> image px
@@ -73,8 +74,8 @@ ImageRgb drawAngleOverlay(const ImageRgb& background, const AngleResult& r, doub
   if (!r.fit_x_mm.empty()) {
     const double x0 = r.fit_x_mm.front(), x1 = r.fit_x_mm.back();
     cv::line(img, fixedPoint(viewPoint(x0, r.slope * x0 + r.intercept)),
-             fixedPoint(viewPoint(x1, r.slope * x1 + r.intercept)), cv::Scalar(255, 255, 255),
-             std::max(3, thick + 1), cv::LINE_8, kShift);
+             fixedPoint(viewPoint(x1, r.slope * x1 + r.intercept)), cv::Scalar(255, 255, 255), std::max(3, thick + 1),
+             cv::LINE_8, kShift);
   }
   // Highest point.
   const cv::Point2d hp = viewPoint(r.highest_x_mm, r.highest_y_mm);

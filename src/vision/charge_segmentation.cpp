@@ -101,8 +101,8 @@ double otsuThreshold(const std::vector<float>& values) {
 ImageU8 segmentCharge(const ImageRgb& view, const ImageU8& mask_img, double ppmm, const SegmentationOptions& opt) {
   if (view.width != mask_img.width || view.height != mask_img.height || view.width <= 0)
     throw std::invalid_argument("segmentCharge: view and mask must be non-empty and of equal size");
-  if (!(ppmm > 0.0) || !(opt.texture_window_mm > 0.0) || !(opt.illumination_sigma_mm > 0.0) ||
-      opt.close_mm < 0.0 || opt.open_mm < 0.0 || opt.denoise_sigma_px < 0.0 || opt.dark_offset < 0.0)
+  if (!(ppmm > 0.0) || !(opt.texture_window_mm > 0.0) || !(opt.illumination_sigma_mm > 0.0) || opt.close_mm < 0.0 ||
+      opt.open_mm < 0.0 || opt.denoise_sigma_px < 0.0 || opt.dark_offset < 0.0)
     throw std::invalid_argument("segmentCharge: scale, window and sigma must be positive, radii >= 0");
   cv::Mat gray, g;
   cv::cvtColor(detail::toBgr(view), gray, cv::COLOR_BGR2GRAY);

@@ -74,8 +74,7 @@ std::vector<int> evenlySpacedIndices(int total, int count) {
     for (int i = 0; i < total; ++i) idx.push_back(i);
     return idx;
   }
-  for (int i = 0; i < count; ++i)
-    idx.push_back(static_cast<int>(static_cast<long long>(i) * total / count));
+  for (int i = 0; i < count; ++i) idx.push_back(static_cast<int>(static_cast<long long>(i) * total / count));
   return idx;
 }
 
@@ -124,8 +123,7 @@ FrameSequence readImageFolder(const std::string& dir, int count) {
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.is_regular_file() && isImageFile(entry.path())) names.push_back(entry.path().filename().string());
   }
-  if (names.empty())
-    throw core::InputError(dir + ": no images (.png .jpg .jpeg .bmp .tif .tiff) in the folder");
+  if (names.empty()) throw core::InputError(dir + ": no images (.png .jpg .jpeg .bmp .tif .tiff) in the folder");
   std::sort(names.begin(), names.end(), naturalLess);
   FrameSequence seq;
   seq.source = dir;

@@ -221,8 +221,8 @@ MillCircle detectMill(const ImageRgb& frame, const MillDetectionOptions& opt) {
   const int lo = std::max(1, static_cast<int>(std::floor(r_min * scale)));
   const int hi = std::max(lo + 1, static_cast<int>(std::ceil(r_max * scale)));
   for (int votes = 120; votes >= opt.min_votes && circles.empty(); votes = votes * 3 / 4) {
-    cv::HoughCircles(small, circles, cv::HOUGH_GRADIENT, 1.0, std::max(small.cols, small.rows), opt.canny_high,
-                     votes, lo, hi);
+    cv::HoughCircles(small, circles, cv::HOUGH_GRADIENT, 1.0, std::max(small.cols, small.rows), opt.canny_high, votes,
+                     lo, hi);
   }
   if (circles.empty()) {
     std::ostringstream m;

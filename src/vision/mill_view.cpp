@@ -14,7 +14,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 MillView::MillView(const MillCircle& circle, const ViewOptions& opt) : m_circle(circle), m_options(opt) {
   if (!(opt.pixels_per_mm > 0.0) || !(opt.diameter_mm > 0.0) || !(opt.wall_mm >= 0.0) || !(opt.margin_mm >= 0.0))
-    throw std::invalid_argument("mill view: pixels_per_mm and diameter_mm must be positive, wall_mm and margin_mm >= 0");
+    throw std::invalid_argument(
+        "mill view: pixels_per_mm and diameter_mm must be positive, wall_mm and margin_mm >= 0");
   if (!(circle.radius_px > 0.0)) throw std::invalid_argument("mill view: the mill circle has no radius");
   m_inner_radius = 0.5 * opt.diameter_mm - opt.wall_mm;
   if (!(m_inner_radius - opt.margin_mm > 0.0))

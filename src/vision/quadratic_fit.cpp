@@ -52,8 +52,7 @@ double betaContinuedFraction(double a, double b, double x) {
 double incompleteBeta(double a, double b, double x) {
   if (x <= 0.0) return 0.0;
   if (x >= 1.0) return 1.0;
-  const double log_front =
-      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
+  const double log_front = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
   if (x < (a + 1.0) / (a + b + 2.0)) return std::exp(log_front) * betaContinuedFraction(a, b, x) / a;
   return 1.0 - std::exp(log_front) * betaContinuedFraction(b, a, 1.0 - x) / b;
 }
@@ -170,8 +169,8 @@ QuadraticFit fitQuadratic(const std::vector<double>& x, const std::vector<double
 
   // Back to x: (1, u, u^2) = T (1, x, x^2) with u = (x - m)/s, so c = T' b and V_c = T' V_b T.
   Eigen::Matrix3d T;
-  T << 1.0, 0.0, 0.0,                      //
-      -m / s, 1.0 / s, 0.0,                //
+  T << 1.0, 0.0, 0.0,        //
+      -m / s, 1.0 / s, 0.0,  //
       m * m / (s * s), -2.0 * m / (s * s), 1.0 / (s * s);
   const Eigen::Vector3d c = T.transpose() * b;
   const Eigen::Matrix3d cov = T.transpose() * cov_u * T;

@@ -94,8 +94,9 @@ std::vector<SurfacePoint> readSurfacePointsCsv(const std::string& path, const Mi
       } else if (cells.size() >= 2 && cells[0] == "x_px" && cells[1] == "y_px") {
         pixels = true;
         if (!view)
-          throw core::InputError(path, lineno, "points in frame pixels (x_px,y_px) need the video or images "
-                                               "to find the mill; give --video or --images, or use x_mm,y_mm");
+          throw core::InputError(path, lineno,
+                                 "points in frame pixels (x_px,y_px) need the video or images "
+                                 "to find the mill; give --video or --images, or use x_mm,y_mm");
       } else {
         throw core::InputError(path, lineno, "expected a header x_mm,y_mm[,frame] or x_px,y_px[,frame]");
       }

@@ -32,7 +32,8 @@ std::vector<SurfacePoint> slurrySurfacePoints(const ImageRgb& view, const ImageU
     throw std::invalid_argument("slurrySurfacePoints: view and mask must be non-empty and of equal size");
   if (!(ppmm > 0.0) || !(R > 0.0) || !(opt.point_spacing_mm > 0.0) || !(opt.seed_radius_mm > 0.0) ||
       opt.seed_depth <= 0.0 || opt.seed_depth >= 1.0)
-    throw std::invalid_argument("slurrySurfacePoints: scale, radius and spacing must be positive, seed_depth in (0, 1)");
+    throw std::invalid_argument(
+        "slurrySurfacePoints: scale, radius and spacing must be positive, seed_depth in (0, 1)");
   cv::Mat bgr;
   detail::toBgr(view).convertTo(bgr, CV_32FC3);
   if (opt.denoise_sigma_px > 0.0) cv::GaussianBlur(bgr, bgr, cv::Size(0, 0), opt.denoise_sigma_px);

@@ -69,7 +69,7 @@ ImageRgb drawSlurryOverlay(const ImageRgb& background, const SlurryCurve& c, con
   const auto& k = c.fit.coef;
   std::snprintf(text, sizeof text, "y = %.2f %+.4f x %+.6f x^2 (mm)", k[0], k[1], k[2]);
   char sub[160];
-  std::snprintf(sub, sizeof sub, "%d points, %s; band %.0f%%: +/-%.2f mm at x = 0", c.fit.points,
+  std::snprintf(sub, sizeof sub, "%d pts, %s, %.0f%% band +/-%.2f mm", c.fit.points,
                 c.fit.groups > 0 ? (std::to_string(c.fit.groups) + " frames").c_str() : "independent",
                 100.0 * c.fit.confidence, c.fit.halfWidth(0.0));
   const double font = std::max(0.4, img.cols / 900.0);

@@ -164,9 +164,10 @@ TEST(VisionVideo, SlurryBandHoldsTrueCurveOverMiddleEightyPercent) {
   }
   // Pointwise band at the centre.
   EXPECT_LE(std::abs(m.curve.fit.value(0.0) - ms::trueSlurryY(sc, 0.0)), m.curve.fit.halfWidth(0.0));
-  std::printf("[ vision ] slurry: %d points, band +/-%.2f mm (pointwise) +/-%.2f mm (simultaneous) at x = 0, "
-              "worst |error| / simultaneous half-width %.2f over x in [%.0f, %.0f] mm\n",
-              m.curve.fit.points, m.curve.fit.halfWidth(0.0), m.curve.fit.simultaneousHalfWidth(0.0), worst, lo, hi);
+  std::printf(
+      "[ vision ] slurry: %d points, band +/-%.2f mm (pointwise) +/-%.2f mm (simultaneous) at x = 0, "
+      "worst |error| / simultaneous half-width %.2f over x in [%.0f, %.0f] mm\n",
+      m.curve.fit.points, m.curve.fit.halfWidth(0.0), m.curve.fit.simultaneousHalfWidth(0.0), worst, lo, hi);
   // The band is not vacuous: narrower than the frame-to-frame scatter of the surface.
   EXPECT_LT(m.curve.fit.simultaneousHalfWidth(0.0), 2.0);
 
@@ -257,7 +258,7 @@ TEST(VisionVideo, CliWritesOutputsAndMapsErrorsToExitTwo) {
   for (const char* f : {"overlay.png", "heatmap.png", "heatmap_overlay.png", "angle_edge.csv"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   const cv::Mat overlay = cv::imread((out / "overlay.png").string());
-  EXPECT_EQ(overlay.cols, sc.width);  // drawn on the original frame
+  EXPECT_EQ(overlay.cols, sc.width);                                // drawn on the original frame
   EXPECT_EQ(cv::imread((out / "heatmap.png").string()).cols, 584);  // 292 mm at 2 px/mm, like the sim
 
   ms::MillScene wet;
@@ -339,8 +340,8 @@ TEST(VisionVideo, SimulationFramesAndTheirPicturesGiveTheSameAngle) {
       const double rp = r[k] * 1000 * ppmm_img;
       const double shade = k < back ? 0.55 : 1.0;
       cv::circle(img, p, static_cast<int>(rp), cv::Scalar(150, 150, 150) * shade, cv::FILLED, cv::LINE_AA);
-      cv::circle(img, p - cv::Point2d(0.35 * rp, 0.35 * rp), static_cast<int>(0.25 * rp), cv::Scalar(245, 245, 245) * shade,
-                 cv::FILLED, cv::LINE_AA);  // highlight
+      cv::circle(img, p - cv::Point2d(0.35 * rp, 0.35 * rp), static_cast<int>(0.25 * rp),
+                 cv::Scalar(245, 245, 245) * shade, cv::FILLED, cv::LINE_AA);            // highlight
       cv::circle(img, p, static_cast<int>(rp), cv::Scalar(60, 60, 60), 1, cv::LINE_AA);  // dark contact ring
     }
     char name[32];
@@ -353,8 +354,9 @@ TEST(VisionVideo, SimulationFramesAndTheirPicturesGiveTheSameAngle) {
   vopt.view.diameter_mm = 2 * (R * 1000 + rim_mm);
   vopt.view.wall_mm = rim_mm;
   const mv::VideoAngleResult from_pictures = mv::measureVideoAngle(mv::readImageFolder(dir.string(), 100), vopt);
-  std::printf("[ vision ] simulated discs at %.0f deg: FrontViewAngle %.3f deg, video pipeline on their pictures %.3f deg\n",
-              angle, from_sim.angle_deg, from_pictures.angle.angle_deg);
+  std::printf(
+      "[ vision ] simulated discs at %.0f deg: FrontViewAngle %.3f deg, video pipeline on their pictures %.3f deg\n",
+      angle, from_sim.angle_deg, from_pictures.angle.angle_deg);
   EXPECT_NEAR(from_sim.angle_deg, angle, 1.0);
   EXPECT_NEAR(from_pictures.angle.angle_deg, from_sim.angle_deg, 1.0);
   EXPECT_EQ(from_pictures.heat.width, sim.accumulator().width());  // same view, same scale

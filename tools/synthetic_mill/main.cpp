@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--ext", ext, "Image type for a folder: png or jpg")->capture_default_str();
   app.add_option("--fourcc", fourcc, "Video codec (default mp4v for .mp4, MJPG otherwise)");
   CLI11_PARSE(app, argc, argv);
-  sc.content = content == "dry" ? millsim::synth::Content::Dry
+  sc.content = content == "dry"      ? millsim::synth::Content::Dry
                : content == "slurry" ? millsim::synth::Content::Slurry
                                      : millsim::synth::Content::Balls;
   try {

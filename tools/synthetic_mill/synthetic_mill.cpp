@@ -73,8 +73,10 @@ void drawBall(cv::Mat& img, const Camera& cam, const Ball& b, double brightness)
   double U, V;
   cam.toCanvas(b.x, b.y, U, V);
   const double rp = b.r * cam.s;
-  const int u0 = std::max(0, static_cast<int>(std::floor(U - rp))), u1 = std::min(img.cols - 1, static_cast<int>(std::ceil(U + rp)));
-  const int v0 = std::max(0, static_cast<int>(std::floor(V - rp))), v1 = std::min(img.rows - 1, static_cast<int>(std::ceil(V + rp)));
+  const int u0 = std::max(0, static_cast<int>(std::floor(U - rp))),
+            u1 = std::min(img.cols - 1, static_cast<int>(std::ceil(U + rp)));
+  const int v0 = std::max(0, static_cast<int>(std::floor(V - rp))),
+            v1 = std::min(img.rows - 1, static_cast<int>(std::ceil(V + rp)));
   const double lx = -0.45, ly = 0.55, lz = 0.70;  // normalised below
   const double ln = std::sqrt(lx * lx + ly * ly + lz * lz);
   const double hx = lx / ln, hy = ly / ln, hz = lz / ln + 1.0;
@@ -140,7 +142,8 @@ cv::Mat renderFrame(const MillScene& sc, int index) {
   const double level = sc.level_jitter_mm * n01(rng), tilt = sc.slope_jitter * n01(rng);
   const double ph1 = uphase(rng), ph2 = uphase(rng);
   auto slurryTop = [&](double x) {
-    return trueSlurryY(sc, x) + level + tilt * x + sc.wave_amplitude_mm * std::sin(2 * kPi * x / sc.wave_length_mm + ph1) +
+    return trueSlurryY(sc, x) + level + tilt * x +
+           sc.wave_amplitude_mm * std::sin(2 * kPi * x / sc.wave_length_mm + ph1) +
            0.5 * sc.wave_amplitude_mm * std::sin(2 * kPi * x / (0.43 * sc.wave_length_mm) + ph2);
   };
   // Dry bed: the surface is rough at the grain scale; its roughness changes every frame.
@@ -205,7 +208,8 @@ cv::Mat renderFrame(const MillScene& sc, int index) {
           if (x * nx + y * ny < sc.surface_offset_mm) c = {24, 24, 26};  // deep gaps of the bed
         }
       }
-      row[u] = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]), cv::saturate_cast<uchar>(c[2]));
+      row[u] =
+          cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]), cv::saturate_cast<uchar>(c[2]));
     }
   }
 

@@ -26,35 +26,35 @@ enum class Content { Balls, Dry, Slurry };
 
 struct MillScene {
   Content content = Content::Balls;
-  int width = 520;                 // frame size, pixels
+  int width = 520;  // frame size, pixels
   int height = 480;
-  double px_per_mm = 1.45;         // camera scale
-  double centre_dx_px = 9.0;       // mill centre relative to the frame centre
+  double px_per_mm = 1.45;    // camera scale
+  double centre_dx_px = 9.0;  // mill centre relative to the frame centre
   double centre_dy_px = -6.0;
-  double diameter_mm = 300.0;      // outer rim (the outline)
-  double wall_mm = 4.0;            // rim width: inner radius = diameter/2 - wall
-  double tilt_deg = 0.0;           // camera roll, counter-clockwise on screen
+  double diameter_mm = 300.0;  // outer rim (the outline)
+  double wall_mm = 4.0;        // rim width: inner radius = diameter/2 - wall
+  double tilt_deg = 0.0;       // camera roll, counter-clockwise on screen
   // Charge.
   double surface_angle_deg = 40.0;   // balls/dry: surface falls to the right at this angle
   double surface_offset_mm = -58.0;  // signed distance of the surface from the axis along its upward normal
   std::array<double, 3> slurry{-30.0, -0.16, 0.0009};  // slurry: mean surface coefficients
-  double wave_amplitude_mm = 2.0;    // slurry: first wave (a second one of half the amplitude)
+  double wave_amplitude_mm = 2.0;                      // slurry: first wave (a second one of half the amplitude)
   double wave_length_mm = 110.0;
-  double level_jitter_mm = 1.5;      // slurry: sd of the frame's level about the mean surface
-  double slope_jitter = 0.008;       // slurry: sd of the frame's extra slope
-  double ball_d_min_mm = 15.0;  // ball diameters, uniform (paper, 300 mm drum: 15-35 mm)
+  double level_jitter_mm = 1.5;  // slurry: sd of the frame's level about the mean surface
+  double slope_jitter = 0.008;   // slurry: sd of the frame's extra slope
+  double ball_d_min_mm = 15.0;   // ball diameters, uniform (paper, 300 mm drum: 15-35 mm)
   double ball_d_max_mm = 35.0;
   int lifters = 8;  // paper: eight 5 mm lifters
   double lifter_height_mm = 5.0;
   double lifter_width_mm = 10.0;
   double drum_step_deg = 11.3;  // drum turn between frames
   // Nuisance.
-  double noise_sigma = 5.0;            // gray levels
-  double motion_blur_px = 5.0;         // length of the blur kernel; 0: none
+  double noise_sigma = 5.0;     // gray levels
+  double motion_blur_px = 5.0;  // length of the blur kernel; 0: none
   double motion_blur_dir_deg = 20.0;
-  double light_gradient = 0.35;        // brightness changes by this fraction across the frame
+  double light_gradient = 0.35;  // brightness changes by this fraction across the frame
   double light_dir_deg = -30.0;
-  double vignetting = 0.25;            // brightness loss at the frame corners
+  double vignetting = 0.25;  // brightness loss at the frame corners
   bool glare = true;
   int jpeg_quality = 0;  // JPEG round trip of every frame; 0: none
   unsigned seed = 1;

@@ -19,8 +19,8 @@ namespace millsim::vision {
 
 struct OverlayLayout {
   std::array<double, 6> view_to_image{1, 0, 0, 0, 1, 0};  // (u, v) = A (col, row, 1)
-  std::vector<double> circle_radii_px;  // circles about the view centre, radii in view pixels
-  std::string caption;                  // second text line (e.g. "100 frames, balls"); empty: none
+  std::vector<double> circle_radii_px;                    // circles about the view centre, radii in view pixels
+  std::string caption;                                    // second text line (e.g. "100 frames, balls"); empty: none
 };
 
 // Heat map (0..1) in a blue -> red colour map, uncovered pixels black.

@@ -32,15 +32,15 @@ enum class ChargeMode { Balls, Dry };
 
 struct SegmentationOptions {
   ChargeMode mode = ChargeMode::Balls;
-  double denoise_sigma_px = 1.0;      // Gaussian pre-smoothing (sensor noise, codec blocks); 0: none
-  double texture_window_mm = 8.0;     // balls: side of the local-contrast window
-  double texture_threshold = 0.0;     // balls: contrast threshold; 0: Otsu over the drum
-  double dark_offset = 10.0;          // balls: gray levels added to the mean, so near-black noise is not contrast
-  double illumination_sigma_mm = 40;  // dry: scale of the class-mean fields (the lighting's scale)
-  double intensity_threshold = 0.0;   // dry: fixed gray-level threshold; 0: the two-class model
-  bool charge_brighter = true;        // dry: ore brighter than the empty drum
-  double close_mm = 5.0;              // closing radius; 0: none
-  double open_mm = 2.0;               // opening radius; 0: none
+  double denoise_sigma_px = 1.0;        // Gaussian pre-smoothing (sensor noise, codec blocks); 0: none
+  double texture_window_mm = 8.0;       // balls: side of the local-contrast window
+  double texture_threshold = 0.0;       // balls: contrast threshold; 0: Otsu over the drum
+  double dark_offset = 10.0;            // balls: gray levels added to the mean, so near-black noise is not contrast
+  double illumination_sigma_mm = 40;    // dry: scale of the class-mean fields (the lighting's scale)
+  double intensity_threshold = 0.0;     // dry: fixed gray-level threshold; 0: the two-class model
+  bool charge_brighter = true;          // dry: ore brighter than the empty drum
+  double close_mm = 5.0;                // closing radius; 0: none
+  double open_mm = 2.0;                 // opening radius; 0: none
   double min_component_fraction = 0.2;  // keep components at least this fraction of the largest
 };
 

@@ -27,15 +27,15 @@
 namespace millsim::vision {
 
 struct QuadraticFit {
-  std::array<double, 3> coef{};            // c0, c1, c2
-  std::array<double, 9> covariance{};      // of (c0, c1, c2), row-major
-  int points = 0;                          // n
-  int groups = 0;                          // G (frames); 0 when the points are independent
-  double dof = 0.0;                        // degrees of freedom of the t quantile
-  double confidence = 0.95;                // of the band
-  double t_quantile = 0.0;                 // t_{(1+confidence)/2, dof}
-  double scheffe_factor = 0.0;             // sqrt(3 F_{3, dof}(confidence))
-  double residual_sd = 0.0;                // sqrt(SSR / (n - 3))
+  std::array<double, 3> coef{};        // c0, c1, c2
+  std::array<double, 9> covariance{};  // of (c0, c1, c2), row-major
+  int points = 0;                      // n
+  int groups = 0;                      // G (frames); 0 when the points are independent
+  double dof = 0.0;                    // degrees of freedom of the t quantile
+  double confidence = 0.95;            // of the band
+  double t_quantile = 0.0;             // t_{(1+confidence)/2, dof}
+  double scheffe_factor = 0.0;         // sqrt(3 F_{3, dof}(confidence))
+  double residual_sd = 0.0;            // sqrt(SSR / (n - 3))
 
   double value(double x) const { return coef[0] + x * (coef[1] + x * coef[2]); }
   // Half-width of the confidence band of the fitted curve at x.

@@ -29,15 +29,15 @@ struct SurfacePoint {
 };
 
 struct SlurryOptions {
-  double seed_depth = 0.75;         // seed at y = -seed_depth * R below the axis
-  double seed_radius_mm = 8.0;      // radius of the disc the slurry colour is taken from
-  double denoise_sigma_px = 1.5;    // Gaussian pre-smoothing of the colour image; 0: none
-  double colour_threshold = 0.0;    // chromaticity distance threshold; 0: Otsu over the drum
-  double point_spacing_mm = 4.0;    // columns sampled for surface points
-  double close_mm = 3.0;            // closing radius of the slurry region; 0: none
-  double open_mm = 3.0;             // opening radius (splashes, droplets on the window); 0: none
-  double outlier_sigmas = 3.5;      // curve fit: points further than this many robust sd are dropped
-  double confidence = 0.95;         // of the curve's band
+  double seed_depth = 0.75;       // seed at y = -seed_depth * R below the axis
+  double seed_radius_mm = 8.0;    // radius of the disc the slurry colour is taken from
+  double denoise_sigma_px = 1.5;  // Gaussian pre-smoothing of the colour image; 0: none
+  double colour_threshold = 0.0;  // chromaticity distance threshold; 0: Otsu over the drum
+  double point_spacing_mm = 4.0;  // columns sampled for surface points
+  double close_mm = 3.0;          // closing radius of the slurry region; 0: none
+  double open_mm = 3.0;           // opening radius (splashes, droplets on the window); 0: none
+  double outlier_sigmas = 3.5;    // curve fit: points further than this many robust sd are dropped
+  double confidence = 0.95;       // of the curve's band
 };
 
 // Points of one view (`mask` 255 = analysed disc, R = inner radius in mm). `frame` labels them.

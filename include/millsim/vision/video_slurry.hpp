@@ -33,8 +33,8 @@ SlurryMeasurement measureVideoSlurry(const FrameSequence& seq, const VideoSlurry
 // pointwise band (light blue), the simultaneous band (thin, darker blue), the drum circles
 // (cyan) and the equation. `mm_to_image` is the affine map
 // from mill millimetres (x right, y up) to image pixels, row-major 2 x 3.
-ImageRgb drawSlurryOverlay(const ImageRgb& background, const SlurryCurve& curve, const std::array<double, 6>& mm_to_image,
-                           const std::vector<double>& circle_radii_mm);
+ImageRgb drawSlurryOverlay(const ImageRgb& background, const SlurryCurve& curve,
+                           const std::array<double, 6>& mm_to_image, const std::vector<double>& circle_radii_mm);
 
 // mm -> frame pixels of a view, and mm -> pixels of a blank square view of radius R at ppmm.
 std::array<double, 6> millToFrameAffine(const MillView& view);
