@@ -1,10 +1,14 @@
-// millsim command line: run, validate, info. Exit codes: 0 ok, 2 bad input (file:line message),
-// 3 the simulation went unstable (cause printed; last good state kept in OUT/).
+// millsim command line: run, validate, info, describe, angle-from-dumps, vision angle|slurry.
+// Exit codes: 0 ok, 2 bad input (file:line message; for vision: bad video path, unreadable
+// codec, no mill outline found), 3 the simulation went unstable (cause printed; last good state
+// kept in OUT/), 1 anything else (e.g. a surface that cannot be measured).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -12,8 +16,12 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/io/particle_dump.hpp"
-#include "millsim/vision/front_view_angle.hpp"
 #include "millsim/sim/simulation.hpp"
+#include "millsim/vision/angle_overlay.hpp"
+#include "millsim/vision/front_view_angle.hpp"
+#include "millsim/vision/png_io.hpp"
+#include "millsim/vision/video_angle.hpp"
+#include "millsim/vision/video_slurry.hpp"
 
 namespace {
 
@@ -73,6 +81,133 @@ int angleFromDumpsCommand(const DumpAngleArgs& a) {
   return 0;
 }
 
+// --- vision: recordings of the mill's front window -------------------------------------------
+
+struct VisionArgs {
+  std::string video, images, out = "vision_out", mode = "balls", points;
+  int frames = 100;
+  double radius_px = 0.0;
+  millsim::vision::VideoAngleOptions angle;
+  millsim::vision::SlurryOptions slurry;
+};
+
+millsim::vision::FrameSequence readInput(const VisionArgs& a) {
+  if (!a.video.empty()) return millsim::vision::readVideoFrames(a.video, a.frames);
+  return millsim::vision::readImageFolder(a.images, a.frames);
+}
+
+void prepareVision(VisionArgs& a) {
+  a.angle.detection.expected_radius_px = a.radius_px;
+  a.angle.angle.pixels_per_mm = a.angle.view.pixels_per_mm;
+  a.angle.segmentation.mode =
+      a.mode == "dry" ? millsim::vision::ChargeMode::Dry : millsim::vision::ChargeMode::Balls;
+  std::filesystem::create_directories(a.out);
+}
+
+nlohmann::ordered_json circleJson(const millsim::vision::MillCircle& c) {
+  nlohmann::ordered_json j;
+  j["cx_px"] = c.cx_px;
+  j["cy_px"] = c.cy_px;
+  j["radius_px"] = c.radius_px;
+  j["refined"] = c.refined;
+  return j;
+}
+
+int visionAngleCommand(VisionArgs a) {
+  prepareVision(a);
+  const millsim::vision::FrameSequence seq = readInput(a);
+  const millsim::vision::VideoAngleResult r = millsim::vision::measureVideoAngle(seq, a.angle);
+  const std::filesystem::path out(a.out);
+  millsim::vision::ImageU8 gray(r.heat.width, r.heat.height);
+  for (std::size_t k = 0; k < r.heat.pixels.size(); ++k)
+    gray.pixels[k] = static_cast<std::uint8_t>(std::lround(255.0f * r.heat.pixels[k]));
+  millsim::vision::writePng((out / "heatmap.png").string(), gray);
+  millsim::vision::writePng((out / "overlay.png").string(), r.overlay);
+  millsim::vision::writePng((out / "heatmap_overlay.png").string(),
+                            millsim::vision::renderAngleOverlay(r.heat, r.angle, a.angle.view.pixels_per_mm));
+  std::ofstream edge(out / "angle_edge.csv");
+  edge << "x_mm,y_mm\n";
+  for (std::size_t k = 0; k < r.angle.fit_x_mm.size(); ++k)
+    edge << r.angle.fit_x_mm[k] << "," << r.angle.fit_y_mm[k] << "\n";
+  nlohmann::ordered_json j;
+  j["angle_deg"] = r.angle.angle_deg;
+  j["stderr_deg"] = r.angle.stderr_deg;
+  j["frames"] = r.frames;
+  j["points"] = r.angle.points_used;
+  j["mode"] = a.mode;
+  j["circle"] = circleJson(r.circle);
+  j["out"] = a.out;
+  std::cout << j.dump() << std::endl;
+  return 0;
+}
+
+int visionSlurryCommand(VisionArgs a) {
+  prepareVision(a);
+  millsim::vision::VideoSlurryOptions opt;
+  opt.detection = a.angle.detection;
+  opt.view = a.angle.view;
+  opt.slurry = a.slurry;
+  millsim::vision::SlurryMeasurement m;
+  if (!a.points.empty()) {
+    // Picked points; frames (when given) locate the mill for pixel points and the picture.
+    if (!a.video.empty() || !a.images.empty()) {
+      const millsim::vision::FrameSequence seq = readInput(a);
+      const millsim::vision::MillView view = millsim::vision::locateMill(seq, opt.detection, opt.view);
+      m.curve = millsim::vision::fitSlurryCurve(millsim::vision::readSurfacePointsCsv(a.points, &view),
+                                                opt.slurry.outlier_sigmas, opt.slurry.confidence);
+      m.circle = view.circle();
+      const double R = view.innerRadiusMm();
+      m.overlay = millsim::vision::drawSlurryOverlay(seq.frames[seq.frames.size() / 2], m.curve,
+                                                     millsim::vision::millToFrameAffine(view),
+                                                     {R + opt.view.wall_mm, R});
+    } else {
+      m.curve = millsim::vision::fitSlurryCurve(millsim::vision::readSurfacePointsCsv(a.points, nullptr),
+                                                opt.slurry.outlier_sigmas, opt.slurry.confidence);
+      const double R = 0.5 * opt.view.diameter_mm - opt.view.wall_mm;
+      const int n = static_cast<int>(std::lround(2 * R * opt.view.pixels_per_mm));
+      m.overlay = millsim::vision::drawSlurryOverlay(millsim::vision::ImageRgb(n, n, {40, 40, 40}), m.curve,
+                                                     millsim::vision::millToViewAffine(R, opt.view.pixels_per_mm),
+                                                     {R});
+    }
+  } else {
+    m = millsim::vision::measureVideoSlurry(readInput(a), opt);
+  }
+  const std::filesystem::path out(a.out);
+  millsim::vision::writeSlurryCurveCsv((out / "slurry_curve.csv").string(), m.curve);
+  millsim::vision::writeSurfacePointsCsv((out / "slurry_points.csv").string(), m.curve);
+  millsim::vision::writePng((out / "slurry_overlay.png").string(), m.overlay);
+  nlohmann::ordered_json j;
+  j["coefficients"] = m.curve.fit.coef;
+  j["band_halfwidth_mm_at_0"] = m.curve.fit.halfWidth(0.0);
+  j["x_range_mm"] = {m.curve.x_min_mm, m.curve.x_max_mm};
+  j["points"] = m.curve.used.size();
+  j["rejected"] = m.curve.rejected.size();
+  j["frames"] = m.frames;
+  if (m.circle.radius_px > 0) j["circle"] = circleJson(m.circle);
+  j["out"] = a.out;
+  std::cout << j.dump() << std::endl;
+  return 0;
+}
+
+void addVisionInputOptions(CLI::App* cmd, VisionArgs& a) {
+  auto* video = cmd->add_option("--video", a.video, "Video file (mp4, avi, ... anything FFmpeg decodes)");
+  auto* images = cmd->add_option("--images", a.images, "Folder of frames (png, jpg, bmp, tif), natural name order");
+  video->excludes(images);
+  cmd->add_option("--frames", a.frames, "Evenly spaced frames to use (paper: 100)")->capture_default_str();
+  cmd->add_option("--diameter-mm", a.angle.view.diameter_mm, "Real diameter of the drum outline (outer rim) [mm]")
+      ->capture_default_str();
+  cmd->add_option("--wall-mm", a.angle.view.wall_mm, "Outline to inner drum wall [mm] (paper: 4)")->capture_default_str();
+  cmd->add_option("--margin-mm", a.angle.view.margin_mm, "Ring inside the wall left out (lifters) [mm]")
+      ->capture_default_str();
+  cmd->add_option("--tilt-deg", a.angle.view.tilt_deg, "Camera roll: a level line rises to the right by this [deg]")
+      ->capture_default_str();
+  cmd->add_flag("--mirror", a.angle.view.mirror, "Flip left-right (drum filmed turning the other way)");
+  cmd->add_option("--pixels-per-mm", a.angle.view.pixels_per_mm, "Scale of the analysed view")->capture_default_str();
+  cmd->add_option("--radius-px", a.radius_px, "Expected outline radius in frame pixels (0: search automatically)")
+      ->capture_default_str();
+  cmd->add_option("--out", a.out, "Output folder")->capture_default_str();
+}
+
 int infoCommand() {
   nlohmann::ordered_json j;
   j["version"] = MILLSIM_VERSION_STRING;
@@ -127,6 +262,31 @@ int main(int argc, char** argv) {
   dump_angle->add_option("--out", dump_args.out, "Write heatmap.png, angle_overlay.png, angle_edge.csv here");
   auto* describe = app.add_subcommand("describe", "Print every case-file element and attribute (markdown)");
 
+  auto* vision = app.add_subcommand("vision", "Angle of repose and slurry curve from recordings of the mill's window");
+  vision->require_subcommand(1);
+  VisionArgs angle_args, slurry_args;
+  auto* vision_angle = vision->add_subcommand(
+      "angle", "Dynamic angle of repose: prints JSON, writes OUT/overlay.png, heatmap.png, heatmap_overlay.png, "
+               "angle_edge.csv");
+  addVisionInputOptions(vision_angle, angle_args);
+  vision_angle->add_option("--mode", angle_args.mode, "balls (local contrast) or dry (two-class intensity threshold)")
+      ->check(CLI::IsMember({"balls", "dry"}))
+      ->capture_default_str();
+  vision_angle->add_option("--threshold", angle_args.angle.angle.threshold, "Heat-map threshold")->capture_default_str();
+  vision_angle->add_option("--fit-offset-mm", angle_args.angle.angle.fit_offset_mm,
+                           "Fit starts this far right of the highest point")
+      ->capture_default_str();
+  auto* vision_slurry = vision->add_subcommand(
+      "slurry", "Slurry surface: quadratic fit with 95% band; writes OUT/slurry_curve.csv, slurry_points.csv, "
+                "slurry_overlay.png");
+  addVisionInputOptions(vision_slurry, slurry_args);
+  vision_slurry->add_option("--points", slurry_args.points,
+                            "Picked points CSV (header x_mm,y_mm or x_px,y_px; optional frame column)");
+  vision_slurry->add_option("--point-spacing-mm", slurry_args.slurry.point_spacing_mm, "Column spacing of points")
+      ->capture_default_str();
+  vision_slurry->add_option("--confidence", slurry_args.slurry.confidence, "Confidence of the band")
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) {
@@ -145,6 +305,13 @@ int main(int argc, char** argv) {
     }
     if (info->parsed()) return infoCommand();
     if (dump_angle->parsed()) return angleFromDumpsCommand(dump_args);
+    if (vision_angle->parsed() || vision_slurry->parsed()) {
+      VisionArgs& a = vision_angle->parsed() ? angle_args : slurry_args;
+      if (a.video.empty() && a.images.empty() && a.points.empty())
+        throw InputError(std::string("vision ") + (vision_angle->parsed() ? "angle" : "slurry") +
+                         ": give --video FILE or --images DIR" + (vision_slurry->parsed() ? " (or --points CSV)" : ""));
+      return vision_angle->parsed() ? visionAngleCommand(a) : visionSlurryCommand(a);
+    }
     if (describe->parsed()) {
       std::cout << millsim::io::describeCaseFormat();
       return 0;

@@ -79,77 +79,6 @@ std::string formatMm(double v) {
   return buf;
 }
 
-// --- overlay drawing -----------------------------------------------------------------------
-
-Rgb heatColour(float v) {
-  // Blue (rarely covered) -> red (always covered), with a little green in the middle so the
-  // 0.5 contour is easy to see. Zero stays black so the drum background does not read as charge.
-  if (!(v > 0.0f)) return {0, 0, 0};
-  const double t = std::min(1.0, static_cast<double>(v));
-  const double g = 1.0 - std::abs(2.0 * t - 1.0);
-  return {static_cast<std::uint8_t>(std::lround(40 + 215 * t)),
-          static_cast<std::uint8_t>(std::lround(160 * g)),
-          static_cast<std::uint8_t>(std::lround(40 + 215 * (1.0 - t)))};
-}
-
-void putPixel(ImageRgb& img, int x, int y, Rgb c) {
-  if (img.inside(x, y)) img.at(x, y) = c;
-}
-
-void fillRect(ImageRgb& img, int x0, int y0, int w, int h, Rgb c) {
-  for (int y = y0; y < y0 + h; ++y) {
-    for (int x = x0; x < x0 + w; ++x) putPixel(img, x, y, c);
-  }
-}
-
-// 5x7 glyphs, one byte per row, bit 4 = leftmost column. Only what "41.7 deg" needs.
-const std::uint8_t* glyph(char ch) {
-  static const std::uint8_t kDigits[10][7] = {
-      {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E},  // 0
-      {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E},  // 1
-      {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F},  // 2
-      {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E},  // 3
-      {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02},  // 4
-      {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E},  // 5
-      {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E},  // 6
-      {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08},  // 7
-      {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E},  // 8
-      {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C},  // 9
-  };
-  static const std::uint8_t kDot[7] = {0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C};
-  static const std::uint8_t kMinus[7] = {0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00};
-  static const std::uint8_t kD[7] = {0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F};
-  static const std::uint8_t kE[7] = {0x00, 0x00, 0x0E, 0x11, 0x1F, 0x10, 0x0E};
-  static const std::uint8_t kG[7] = {0x00, 0x0F, 0x11, 0x11, 0x0F, 0x01, 0x0E};
-  static const std::uint8_t kBlank[7] = {0, 0, 0, 0, 0, 0, 0};
-  if (ch >= '0' && ch <= '9') return kDigits[ch - '0'];
-  switch (ch) {
-    case '.': return kDot;
-    case '-': return kMinus;
-    case 'd': return kD;
-    case 'e': return kE;
-    case 'g': return kG;
-    default: return kBlank;  // space and anything the tiny font does not know
-  }
-}
-
-void drawText(ImageRgb& img, int x0, int y0, const std::string& text, int scale, Rgb fg, Rgb bg) {
-  const int advance = 6 * scale;  // 5 columns + 1 column gap
-  const int n = static_cast<int>(text.size());
-  // Background box so the text reads over any heat colour.
-  fillRect(img, x0 - scale, y0 - scale, n * advance + scale, 9 * scale, bg);
-  for (int i = 0; i < n; ++i) {
-    const std::uint8_t* g = glyph(text[i]);
-    for (int row = 0; row < 7; ++row) {
-      for (int col = 0; col < 5; ++col) {
-        if (g[row] & (0x10 >> col)) {
-          fillRect(img, x0 + i * advance + col * scale, y0 + row * scale, scale, scale, fg);
-        }
-      }
-    }
-  }
-}
-
 }  // namespace
 
 LineFit fitLine(const std::vector<double>& x, const std::vector<double>& y) {
@@ -254,51 +183,6 @@ AngleResult angleFromMasks(const std::vector<ImageU8>& masks, const AngleOptions
   HeatmapAccumulator acc;
   for (const ImageU8& m : masks) acc.add(m);
   return angleFromHeatmap(acc.heatmap(), opt);
-}
-
-ImageRgb renderAngleOverlay(const ImageF& heat, const AngleResult& r, double ppmm) {
-  if (!(ppmm > 0.0)) throw std::invalid_argument("renderAngleOverlay: ppmm must be positive");
-  const int w = heat.width;
-  const int h = heat.height;
-  ImageRgb img(w, h, Rgb{0, 0, 0});
-  for (std::size_t i = 0; i < img.pixels.size() && i < heat.pixels.size(); ++i) {
-    img.pixels[i] = heatColour(heat.pixels[i]);
-  }
-
-  // Top edge of the processed map (what the fit saw), when the result carries it.
-  if (r.processed.width == w && r.processed.height == h) {
-    const std::vector<int> top = topEdge(r.processed);
-    for (int x = 0; x < w; ++x) {
-      if (top[x] >= 0) putPixel(img, x, top[x], Rgb{255, 255, 0});
-    }
-  }
-
-  // Fitted line, 3 px wide, stepped in quarter pixels so steep lines have no gaps.
-  if (!r.fit_x_mm.empty()) {
-    const Rgb white{255, 255, 255};
-    const double x0 = r.fit_x_mm.front() * ppmm;
-    const double x1 = r.fit_x_mm.back() * ppmm;
-    const double step = 0.25 / std::sqrt(1.0 + r.slope * r.slope);
-    for (double xp = x0; xp <= x1; xp += step) {
-      const double y_mm = r.slope * (xp / ppmm) + r.intercept;
-      const int col = static_cast<int>(std::lround(xp));
-      const int row = static_cast<int>(std::lround((h - 1) - y_mm * ppmm));
-      fillRect(img, col - 1, row - 1, 3, 3, white);
-    }
-  }
-
-  // Highest point: green cross.
-  const int hc = static_cast<int>(std::lround(r.highest_x_mm * ppmm));
-  const int hr = static_cast<int>(std::lround((h - 1) - r.highest_y_mm * ppmm));
-  for (int d = -6; d <= 6; ++d) {
-    fillRect(img, hc + d, hr - 1, 1, 3, Rgb{0, 255, 0});
-    fillRect(img, hc - 1, hr + d, 3, 1, Rgb{0, 255, 0});
-  }
-
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f deg", r.angle_deg);
-  drawText(img, 8, 8, text, 3, Rgb{255, 255, 255}, Rgb{0, 0, 0});
-  return img;
 }
 
 }  // namespace millsim::vision

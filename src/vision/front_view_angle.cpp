@@ -3,6 +3,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "millsim/vision/angle_overlay.hpp"
 #include "millsim/vision/png_io.hpp"
 #include "millsim/vision/render_discs.hpp"
 

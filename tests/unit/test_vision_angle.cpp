@@ -14,6 +14,7 @@
 
 #include "millsim/core/error.hpp"
 #include "millsim/vision/angle_of_repose.hpp"
+#include "millsim/vision/angle_overlay.hpp"
 #include "millsim/vision/heatmap.hpp"
 #include "millsim/vision/image.hpp"
 #include "millsim/vision/png_io.hpp"

@@ -59,10 +59,6 @@ AngleResult angleFromHeatmap(const ImageF& heat, const AngleOptions& opt);
 // Heat map of `masks` (nonzero = charge; all the same size) followed by angleFromHeatmap.
 AngleResult angleFromMasks(const std::vector<ImageU8>& masks, const AngleOptions& opt);
 
-// Debug picture in the spirit of the paper's Figure 12: the heat map in a blue -> red colour
-// map (uncovered pixels black), the top edge of the processed map in yellow, the highest point
-// as a green cross, the fitted line in white over the fit window and the angle as text
-// ("41.7 deg", built-in 5x7 font scaled 3x) at the top left.
-ImageRgb renderAngleOverlay(const ImageF& heat, const AngleResult& r, double ppmm);
+// The picture of a result (renderAngleOverlay, drawAngleOverlay) is in angle_overlay.hpp.
 
 }  // namespace millsim::vision
