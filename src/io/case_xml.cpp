@@ -130,6 +130,7 @@ struct ElementSpec {
   bool required = false;
   FlagRef present = nullptr;  // set to whether the element is in the case (effect switches)
   std::string description;
+  std::string required_with = "";  // required when this element (an effect) is in the case
 
   std::string tag() const {
     if (path.empty()) return kRootTag;
@@ -260,7 +261,8 @@ Schema buildSchema() {
       {"dem", false, [](Scene& sc) -> bool& { return sc.effect_dem; },
        "Contact material and law of the balls (walls are the same steel). Its presence enables "
        "the DEM effect: a case without this element has no balls."},
-      {"drum", true, nullptr, "The rotating drum: geometry and speed."},
+      {"drum", false, [](Scene& sc) -> bool& { return sc.has_drum; },
+       "The rotating drum: geometry and speed. Required with <dem>.", "dem"},
       {"drum.lifters", false, nullptr, "Box lifters on the drum shell, evenly spaced."},
       {"charge", false, nullptr,
        "Ball charge: Bond equilibrium distribution y = (x / B)^bond_exponent over the classes "
@@ -271,6 +273,15 @@ Schema buildSchema() {
       {"angle_of_repose", false, nullptr,
        "Dynamic angle of repose measured from rendered front views, as the paper measured it "
        "from camera frames."},
+      {"sph", false, [](Scene& sc) -> bool& { return sc.effect_sph; },
+       "Weakly compressible SPH fluid (DualSPHysics formulation). Its presence enables the SPH "
+       "effect."},
+      {"fluid", false, [](Scene& sc) -> bool& { return sc.has_fluid; },
+       "Box filled with fluid particles at spacing sph.dp. Required with <sph>.", "sph"},
+      {"tank", false, [](Scene& sc) -> bool& { return sc.has_tank; },
+       "Rectangular tank of boundary particles (DBC) around [min, max], open at the top unless "
+       "closed; may rotate about z through its centre."},
+      {"probes", false, nullptr, "Points where the fluid pressure is written to series.csv."},
   };
 
   s.attributes = {
@@ -426,9 +437,141 @@ Schema buildSchema() {
       number("angle_of_repose", "fit_length_mm", "mm", atLeast(0),
              [](Scene& sc) -> double& { return sc.angle.fit_length_mm; },
              "Length of the line fit; 0: to the toe of the charge."),
+
+      integer("sph", "dimension", "", range('[', 2, 3, ']'),
+              [](Scene& sc) -> int& { return sc.sph.dimension; },
+              "2: the x-y plane (up is +y, quantities per metre of depth); 3: full 3D."),
+      number("sph", "dp", "m", above(0), [](Scene& sc) -> double& { return sc.sph.dp; },
+             "Particle spacing (paper's wet mill: 0.005).")
+          .mandatory(),
+      choice("sph", "kernel", {"wendland", "cubic"}, [](Scene& sc) -> std::string& { return sc.sph.kernel; },
+             "Smoothing kernel: Wendland C2 or cubic spline (paper eqs. 6-7)."),
+      number("sph", "coefh", "", above(0), [](Scene& sc) -> double& { return sc.sph.coefh; },
+             "h = coefh dp sqrt(dimension) (DualSPHysics rule; paper's wet mill: 0.8); h must be >= dp."),
+      number("sph", "coefsound", "", above(0), [](Scene& sc) -> double& { return sc.sph.coefsound; },
+             "c0 = coefsound sqrt(|g| hswl) (DualSPHysics default 20, so c0 >= 10 sqrt(g H))."),
+      number("sph", "hswl", "m", atLeast(0), [](Scene& sc) -> double& { return sc.sph.hswl; },
+             "Still-water height for the speed of sound; 0: the height of <fluid>."),
+      number("sph", "rho0", "kg/m^3", above(0), [](Scene& sc) -> double& { return sc.sph.rho0; },
+             "Reference density (paper's slurry: 1400)."),
+      number("sph", "gamma", "", above(0), [](Scene& sc) -> double& { return sc.sph.gamma; },
+             "Tait exponent (eq. 28)."),
+      choice("sph", "viscosity", {"artificial", "laminar_sps"},
+             [](Scene& sc) -> std::string& { return sc.sph.viscosity; },
+             "artificial: Monaghan (eq. 21, alpha); laminar_sps: Lo & Shao + SPS turbulence (eqs. 23-27, nu, "
+             "Cs = 0.12, C_I = 0.0066)."),
+      number("sph", "alpha", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.alpha; },
+             "Artificial viscosity coefficient."),
+      number("sph", "visco_bound_factor", "", atLeast(0),
+             [](Scene& sc) -> double& { return sc.sph.visco_bound_factor; },
+             "alpha multiplier for fluid-boundary pairs (paper's wet mill: 0.1)."),
+      number("sph", "nu", "m^2/s", atLeast(0), [](Scene& sc) -> double& { return sc.sph.nu; },
+             "Kinematic viscosity for laminar_sps (paper's slurry: 8.1e-6)."),
+      choice("sph", "ddt", {"none", "molteni", "fourtakas"}, [](Scene& sc) -> std::string& { return sc.sph.ddt; },
+             "Density diffusion: none, Molteni & Colagrossi 2009, Fourtakas et al. 2019 (eqs. 17-20)."),
+      number("sph", "ddt_value", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.ddt_value; },
+             "delta of the density diffusion term."),
+      choice("sph", "integrator", {"verlet", "symplectic"},
+             [](Scene& sc) -> std::string& { return sc.sph.integrator; },
+             "Verlet (an Euler step every verlet_steps) or symplectic position Verlet (eqs. 30-39)."),
+      integer("sph", "verlet_steps", "", atLeast(1), [](Scene& sc) -> int& { return sc.sph.verlet_steps; },
+              "Ns: an Euler step every Ns Verlet steps."),
+      number("sph", "cfl", "", range('(', 0, 1, ']'), [](Scene& sc) -> double& { return sc.sph.cfl; },
+             "Courant number of the variable time step (eqs. 40-41) when time.dt = auto."),
+      choice("sph", "shifting", {"none", "full"}, [](Scene& sc) -> std::string& { return sc.sph.shifting; },
+             "Fickian particle shifting (eqs. 44-45), off where div r < shift_tfs (free surface)."),
+      number("sph", "shift_coef", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.shift_coef; },
+             "A_s of the shifting (paper: 2)."),
+      number("sph", "shift_tfs", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.shift_tfs; },
+             "Free-surface threshold of div r; 0: 1.5 in 2D, 2.75 in 3D.")
+          .shownDefault("0 (1.5 / 2.75)"),
+      number("sph", "rhop_out_min", "kg/m^3", above(0), [](Scene& sc) -> double& { return sc.sph.rhop_out_min; },
+             "Fluid particles below this density are excluded (counted in summary.json)."),
+      number("sph", "rhop_out_max", "kg/m^3", above(0), [](Scene& sc) -> double& { return sc.sph.rhop_out_max; },
+             "Fluid particles above this density are excluded; must be > rhop_out_min."),
+      number("sph", "parts_out_max", "", range('[', 0, 1, ']'),
+             [](Scene& sc) -> double& { return sc.sph.parts_out_max; },
+             "The run stops when more than this fraction of the fluid is excluded (paper: 1%)."),
+      integer("sph", "boundary_layers", "", atLeast(0), [](Scene& sc) -> int& { return sc.sph.boundary_layers; },
+              "Layers of boundary particles; 0: ceil(2h / dp), enough to cover the kernel.")
+          .shownDefault("0 (auto)"),
+      choice("sph", "initial_density", {"hydrostatic", "rho0"},
+             [](Scene& sc) -> std::string& { return sc.sph.initial_density; },
+             "Initial fluid density: hydrostatic below the top of <fluid>, or rho0 everywhere."),
+
+      number("fluid", "x_min", "m", anyValue(), [](Scene& sc) -> double& { return sc.fluid.x_min; }, "Box, x from.")
+          .mandatory(),
+      number("fluid", "y_min", "m", anyValue(), [](Scene& sc) -> double& { return sc.fluid.y_min; }, "Box, y from.")
+          .mandatory(),
+      number("fluid", "z_min", "m", anyValue(), [](Scene& sc) -> double& { return sc.fluid.z_min; },
+             "Box, z from (3D)."),
+      number("fluid", "x_max", "m", anyValue(), [](Scene& sc) -> double& { return sc.fluid.x_max; }, "Box, x to.")
+          .mandatory(),
+      number("fluid", "y_max", "m", anyValue(), [](Scene& sc) -> double& { return sc.fluid.y_max; }, "Box, y to.")
+          .mandatory(),
+      number("fluid", "z_max", "m", anyValue(), [](Scene& sc) -> double& { return sc.fluid.z_max; },
+             "Box, z to (3D)."),
+
+      number("tank", "x_min", "m", anyValue(), [](Scene& sc) -> double& { return sc.tank.x_min; },
+             "Inner box, x from.")
+          .mandatory(),
+      number("tank", "y_min", "m", anyValue(), [](Scene& sc) -> double& { return sc.tank.y_min; },
+             "Inner box, y from (the floor).")
+          .mandatory(),
+      number("tank", "z_min", "m", anyValue(), [](Scene& sc) -> double& { return sc.tank.z_min; },
+             "Inner box, z from (3D)."),
+      number("tank", "x_max", "m", anyValue(), [](Scene& sc) -> double& { return sc.tank.x_max; },
+             "Inner box, x to.")
+          .mandatory(),
+      number("tank", "y_max", "m", anyValue(), [](Scene& sc) -> double& { return sc.tank.y_max; },
+             "Inner box, y to (wall height).")
+          .mandatory(),
+      number("tank", "z_max", "m", anyValue(), [](Scene& sc) -> double& { return sc.tank.z_max; },
+             "Inner box, z to (3D)."),
+      flag("tank", "closed", [](Scene& sc) -> bool& { return sc.tank.closed; }, "A roof at y_max."),
+      number("tank", "rotation_rpm", "rpm", anyValue(), [](Scene& sc) -> double& { return sc.tank.rotation_rpm; },
+             "Rotation about +z through the tank centre (sloshing); 0: fixed."),
+      number("tank", "spin_up", "s", atLeast(0), [](Scene& sc) -> double& { return sc.tank.spin_up; },
+             "Linear ramp to full rotation speed."),
+
+      text("probes", "points", [](Scene& sc) -> std::string& { return sc.probes.points; },
+           "Named points 'name:x,y[,z];...' (m) whose Shepard-interpolated fluid pressure goes to series.csv "
+           "as p_<name>_Pa."),
   };
 
   s.checks = {
+      {"sph", "rhop_out_max", "`sph.rhop_out_min` < `sph.rhop_out_max`",
+       [](const Scene& sc) -> std::string {
+         if (!sc.effect_sph || sc.sph.rhop_out_min < sc.sph.rhop_out_max) return {};
+         return "must be > sph.rhop_out_min = " + formatNumber(sc.sph.rhop_out_min) + " (kg/m^3)";
+       }},
+      {"sph", "rho0", "`sph.rhop_out_min` < `sph.rho0` < `sph.rhop_out_max`",
+       [](const Scene& sc) -> std::string {
+         if (!sc.effect_sph || (sc.sph.rho0 > sc.sph.rhop_out_min && sc.sph.rho0 < sc.sph.rhop_out_max)) return {};
+         return "must lie between sph.rhop_out_min and sph.rhop_out_max";
+       }},
+      {"sph", "coefh", "h = `sph.coefh` dp sqrt(`sph.dimension`) >= dp",
+       [](const Scene& sc) -> std::string {
+         if (!sc.effect_sph || sc.sph.coefh * std::sqrt(double(sc.sph.dimension)) >= 1.0) return {};
+         return "gives h = " + formatNumber(sc.sph.coefh * std::sqrt(double(sc.sph.dimension))) +
+                " dp, smaller than dp: must be >= " + formatNumber(1.0 / std::sqrt(double(sc.sph.dimension)));
+       }},
+      {"fluid", "x_max", "`fluid.x_min` < `fluid.x_max`, `fluid.y_min` < `fluid.y_max` (and z in 3D)",
+       [](const Scene& sc) -> std::string {
+         if (!sc.has_fluid) return {};
+         if (!(sc.fluid.x_min < sc.fluid.x_max) || !(sc.fluid.y_min < sc.fluid.y_max) ||
+             (sc.sph.dimension == 3 && !(sc.fluid.z_min < sc.fluid.z_max)))
+           return "the box is empty: each max must exceed its min";
+         return {};
+       }},
+      {"tank", "x_max", "`tank.x_min` < `tank.x_max`, `tank.y_min` < `tank.y_max` (and z in 3D)",
+       [](const Scene& sc) -> std::string {
+         if (!sc.has_tank) return {};
+         if (!(sc.tank.x_min < sc.tank.x_max) || !(sc.tank.y_min < sc.tank.y_max) ||
+             (sc.sph.dimension == 3 && !(sc.tank.z_min < sc.tank.z_max)))
+           return "the box is empty: each max must exceed its min";
+         return {};
+       }},
       {"drum.lifters", "height", "`drum.lifters.height` < `drum.diameter` / 4",
        [](const Scene& sc) -> std::string {
          const double limit = sc.drum.diameter / 4.0;
@@ -625,6 +768,12 @@ class CaseReader {
       if (e.present) e.present(scene) = false;
 
     readElement(*m_doc.RootElement(), *schema().element(""), scene);
+    for (const auto& e : schema().elements)
+      if (!e.required_with.empty() && m_read.count(e.required_with) && !m_read.count(e.path))
+        failElement(*m_read.at(e.required_with), "<" + schema().element(e.required_with)->tag() + "> needs a <" +
+                                                     e.tag() + "> element in the case");
+    if (!m_read.count("dem") && !m_read.count("sph"))
+      failElement(*m_doc.RootElement(), "<millsim>: nothing to simulate: the case has neither <dem> nor <sph>");
     runCrossChecks(scene);
     return scene;
   }
@@ -991,7 +1140,7 @@ std::string describeCaseFormat() {
     for (std::string p = e.path; !p.empty(); p = s.element(p)->parent())
       nested = "<" + s.element(p)->tag() + ">" + nested;
     md << "| `" << (e.path.empty() ? "<millsim>" : "<millsim>" + nested) << "` | "
-       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | " << (e.required ? "yes" : "no")
+       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | " << (e.required ? "yes" : e.required_with.empty() ? "no" : "with <" + s.element(e.required_with)->tag() + ">")
        << " | " << markdownCell(e.description) << " |\n";
   }
   md << "\n| Attribute (`--set` path) | Type | Unit | Default | Allowed | Description |\n"

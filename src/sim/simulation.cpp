@@ -21,6 +21,7 @@
 #include "sim/charge_setup.hpp"
 #include "sim/drum_motion.hpp"
 #include "sim/run_outputs.hpp"
+#include "sim/sph_run.hpp"
 
 namespace millsim::sim {
 
@@ -364,11 +365,20 @@ void Simulation::Impl::restoreCheckpoint() {
   }
 }
 
-Simulation::Simulation(const scene::Scene& scene, const RunOptions& options)
-    : m_impl(std::make_unique<Impl>(scene, options)) {}
+Simulation::Simulation(const scene::Scene& scene, const RunOptions& options) {
+  // Only the engines the effects call for exist: a fluid-only case has no DEM arrays at all.
+  if (scene.effect_sph && scene.effect_dem)
+    throw core::InputError(scene.source, 0,
+                           "<dem> and <sph> together (the wet mill, SPH-DEM coupling) are not available yet");
+  if (scene.effect_sph)
+    m_sph = std::make_unique<SphRun>(scene, options);
+  else
+    m_impl = std::make_unique<Impl>(scene, options);
+}
 Simulation::~Simulation() = default;
 
 const RunSummary& Simulation::run() {
+  if (m_sph) return m_sph->run();
   m_impl->run();
   if (m_impl->options.write_outputs)
     writeSummaryJson(fs::path(m_impl->options.out_dir) / "summary.json", m_impl->summary, stages(), memoryReport(),
@@ -377,14 +387,17 @@ const RunSummary& Simulation::run() {
 }
 
 std::vector<std::string> Simulation::stages() const {
+  if (m_sph) return m_sph->stages();
   std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts_and_walls", "dem_kick"};
   if (m_impl->scene.angle.enabled) s.push_back("front_view_frames");
   return s;
 }
 
-std::map<std::string, std::size_t> Simulation::memoryReport() const { return m_impl->engine->memoryBytes(); }
-const RunSummary& Simulation::summary() const { return m_impl->summary; }
-double Simulation::timeStep() const { return m_impl->dt; }
-std::size_t Simulation::particleCount() const { return m_impl->charge.state.size(); }
+std::map<std::string, std::size_t> Simulation::memoryReport() const {
+  return m_sph ? m_sph->memoryReport() : m_impl->engine->memoryBytes();
+}
+const RunSummary& Simulation::summary() const { return m_sph ? m_sph->summary() : m_impl->summary; }
+double Simulation::timeStep() const { return m_sph ? m_sph->timeStep() : m_impl->dt; }
+std::size_t Simulation::particleCount() const { return m_sph ? m_sph->particleCount() : m_impl->charge.state.size(); }
 
 }  // namespace millsim::sim

@@ -49,8 +49,13 @@ struct DdtFourtakas2019 {
   T rho0 = 0;
   T gz = 0;  // rho0 |g| / B
   T inv_gamma = 0;
+  // (1 + x)^(1/gamma) - 1 by its Taylor series to x^3: x = rho0 g dz / B is ~1e-3 over a kernel
+  // support (density varies by ~1% over the whole fluid depth), so the x^4 term is below 1e-12
+  // relative, and pow() per pair was 30% of the interaction time.
   MILLSIM_HD T operator()(T rho_a, T rho_b, T height_ab, T r2, T fac, T vol_b) const {
-    const T rho_h = rho0 * (std::pow(T(1) + gz * height_ab, inv_gamma) - T(1));
+    const T x = gz * height_ab;
+    const T a = inv_gamma;
+    const T rho_h = rho0 * a * x * (T(1) + (a - T(1)) * x * (T(0.5) + (a - T(2)) * x * (T(1) / T(6))));
     return -coef * ((rho_b - rho_a) - rho_h) * fac * r2 / (r2 + eta2) * vol_b;
   }
 };

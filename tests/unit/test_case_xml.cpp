@@ -92,9 +92,12 @@ TEST(CaseXml, EveryShippedCaseParses) {
     ASSERT_NO_THROW(s = loadCaseFile(entry.path().string()));
     EXPECT_EQ(s.name, entry.path().stem().string());  // root name matches the file name
     EXPECT_EQ(s.source, entry.path().string());
-    EXPECT_TRUE(s.effect_dem);
+    // A balls case has its drum, a fluid case its fluid.
+    EXPECT_TRUE(s.effect_dem || s.effect_sph);
+    if (s.effect_dem) EXPECT_TRUE(s.has_drum);
+    if (s.effect_sph) EXPECT_TRUE(s.has_fluid);
   }
-  EXPECT_GE(count, 4);
+  EXPECT_GE(count, 7);
 }
 
 TEST(CaseXml, PaperCaseValuesLandInScene) {
@@ -229,11 +232,39 @@ TEST(CaseXml, AbsentAttributesAndElementsKeepSceneDefaults) {
 }
 
 TEST(CaseXml, NameDefaultsToFileStemAndDemToAbsent) {
-  std::string xml = small("<millsim name=\"small\">", "<millsim>");
-  xml = xml.replace(xml.find("  <dem/>\n"), 9, "");
-  const Scene s = loadCaseText(xml, "cases/my_case.xml");
+  const char* const fluid_only = R"(<millsim>
+  <time end="1"/>
+  <sph dp="0.01"/>
+  <fluid x_min="0" y_min="0" x_max="0.1" y_max="0.1"/>
+</millsim>
+)";
+  const Scene s = loadCaseText(fluid_only, "cases/my_case.xml");
   EXPECT_EQ(s.name, "my_case");
   EXPECT_FALSE(s.effect_dem);
+  EXPECT_TRUE(s.effect_sph);
+  EXPECT_FALSE(s.has_drum);
+  EXPECT_FALSE(s.has_tank);
+}
+
+TEST(CaseXmlErrors, NothingToSimulate) {
+  std::string xml = small("<millsim name=\"small\">", "<millsim>");
+  xml = xml.replace(xml.find("  <dem/>\n"), 9, "");
+  EXPECT_EQ(textFailure(xml).what, "t.xml:1: <millsim>: nothing to simulate: the case has neither <dem> nor <sph>");
+}
+
+TEST(CaseXmlErrors, EffectWithoutItsGeometry) {
+  const std::string no_drum = R"(<millsim>
+  <time end="1"/>
+  <dem/>
+</millsim>
+)";
+  EXPECT_EQ(textFailure(no_drum).what, "t.xml:3: <dem> needs a <drum> element in the case");
+  const std::string no_fluid = R"(<millsim>
+  <time end="1"/>
+  <sph dp="0.01"/>
+</millsim>
+)";
+  EXPECT_EQ(textFailure(no_fluid).what, "t.xml:3: <sph> needs a <fluid> element in the case");
 }
 
 TEST(CaseXml, CriticalFractionInsteadOfRpm) {
@@ -335,7 +366,8 @@ TEST(CaseXmlErrors, UnknownElement) {
   const Failure f = textFailure(small("<dem/>", "<drums/>"));
   EXPECT_EQ(f.what,
             "t.xml:3: unknown element <drums> under <millsim> (expected one of: time, gravity, "
-            "output, dem, drum, charge, compaction, angle_of_repose); did you mean 'drum'?");
+            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, tank, probes); did you mean "
+            "'drum'?");
   const Failure misplaced = textFailure(small("<dem/>", "<lifters/>"));
   EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos)
       << misplaced.what;
@@ -495,7 +527,16 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "angle_of_repose.enabled", "angle_of_repose.start_time", "angle_of_repose.frames",
       "angle_of_repose.pixels_per_mm", "angle_of_repose.threshold",
       "angle_of_repose.smoothing_px", "angle_of_repose.fit_offset_mm",
-      "angle_of_repose.fit_length_mm"};
+      "angle_of_repose.fit_length_mm",
+      "sph.dimension", "sph.dp", "sph.kernel", "sph.coefh", "sph.coefsound", "sph.hswl", "sph.rho0",
+      "sph.gamma", "sph.viscosity", "sph.alpha", "sph.visco_bound_factor", "sph.nu", "sph.ddt",
+      "sph.ddt_value", "sph.integrator", "sph.verlet_steps", "sph.cfl", "sph.shifting", "sph.shift_coef",
+      "sph.shift_tfs", "sph.rhop_out_min", "sph.rhop_out_max", "sph.parts_out_max", "sph.boundary_layers",
+      "sph.initial_density",
+      "fluid.x_min", "fluid.y_min", "fluid.z_min", "fluid.x_max", "fluid.y_max", "fluid.z_max",
+      "tank.x_min", "tank.y_min", "tank.z_min", "tank.x_max", "tank.y_max", "tank.z_max", "tank.closed",
+      "tank.rotation_rpm", "tank.spin_up",
+      "probes.points"};
   // clang-format on
   EXPECT_EQ(paths, expected);
   // Defaults come from Scene, bounds and units from the schema.

@@ -80,6 +80,55 @@ struct AngleParams {
   double fit_length_mm = 0.0;  // > 0: regression stops after this length; 0: to the toe
 };
 
+// Weakly compressible SPH (paper eqs. 1-45, the DualSPHysics formulation). Names follow
+// DualSPHysics's case parameters where one exists (coefh, coefsound, hswl, RhopOut...).
+struct SphParams {
+  int dimension = 2;                   // 2 (x-y plane, up is +y) or 3
+  double dp = 0.01;                    // m, particle spacing
+  std::string kernel = "wendland";     // wendland | cubic
+  double coefh = 1.0;                  // h = coefh dp sqrt(dimension)
+  double coefsound = 20.0;             // c0 = coefsound sqrt(|g| hswl)
+  double hswl = 0.0;                   // m, still-water height for c0; 0: the fluid's height
+  double rho0 = 1000.0;                // kg/m3
+  double gamma = 7.0;                  // Tait exponent
+  std::string viscosity = "artificial";  // artificial | laminar_sps
+  double alpha = 0.1;                  // artificial viscosity coefficient
+  double visco_bound_factor = 1.0;     // alpha multiplier for fluid-boundary pairs
+  double nu = 1e-6;                    // m2/s, kinematic viscosity (laminar_sps)
+  std::string ddt = "fourtakas";       // none | molteni | fourtakas
+  double ddt_value = 0.1;              // delta
+  std::string integrator = "verlet";   // verlet | symplectic
+  int verlet_steps = 40;               // an Euler step every N steps
+  double cfl = 0.2;                    // dt = cfl min(dt_f, dt_cv) when time.dt = auto
+  std::string shifting = "none";       // none | full (Fickian, off at the free surface)
+  double shift_coef = 2.0;             // A_s
+  double shift_tfs = 0.0;              // free-surface threshold of div r; 0: 1.5 (2D), 2.75 (3D)
+  double rhop_out_min = 700.0;         // kg/m3: fluid outside [min, max] is excluded
+  double rhop_out_max = 1300.0;
+  double parts_out_max = 0.01;         // the run stops when more than this fraction is excluded
+  int boundary_layers = 0;             // DBC layers; 0: ceil(2h / dp), enough for the kernel
+  std::string initial_density = "hydrostatic";  // hydrostatic | rho0
+};
+
+// A rectangular tank of boundary particles (DBC) around [min, max], open at the top unless
+// closed; it may rotate about z through its centre (sloshing).
+struct TankParams {
+  double x_min = 0, y_min = 0, z_min = 0;
+  double x_max = 1, y_max = 1, z_max = 1;
+  bool closed = false;
+  double rotation_rpm = 0.0;  // rpm about +z through the tank centre; 0: fixed
+  double spin_up = 0.0;       // s, linear ramp to full speed
+};
+
+struct FluidBoxParams {
+  double x_min = 0, y_min = 0, z_min = 0;
+  double x_max = 1, y_max = 1, z_max = 1;
+};
+
+struct ProbeParams {
+  std::string points;  // "name:x,y[,z];name:x,y[,z]" (m): Shepard-interpolated pressure
+};
+
 struct Scene {
   std::string name = "ball_mill_300_balls";
   std::string source = "<embedded>";  // file the scene came from, for messages
@@ -90,6 +139,7 @@ struct Scene {
   // Effects the scene calls for; only their stages and arrays exist in a run.
   bool effect_dem = true;
   bool effect_sph = false;
+  bool has_drum = true, has_tank = false, has_fluid = false;
   TimeParams time;
   OutputParams output;
   DemParams dem;
@@ -97,6 +147,10 @@ struct Scene {
   ChargeParams charge;
   CompactionParams compaction;
   AngleParams angle;
+  SphParams sph;
+  TankParams tank;
+  FluidBoxParams fluid;
+  ProbeParams probes;
 };
 
 }  // namespace millsim::scene

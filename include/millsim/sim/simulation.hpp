@@ -40,6 +40,8 @@ struct RunSummary {
   double charge_mass_kg = 0;
 };
 
+class SphRun;
+
 class Simulation {
  public:
   Simulation(const scene::Scene& scene, const RunOptions& options);
@@ -59,7 +61,8 @@ class Simulation {
 
  private:
   struct Impl;
-  std::unique_ptr<Impl> m_impl;
+  std::unique_ptr<Impl> m_impl;     // balls (DEM) cases
+  std::unique_ptr<SphRun> m_sph;    // fluid-only cases
 };
 
 }  // namespace millsim::sim

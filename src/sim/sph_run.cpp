@@ -1,0 +1,383 @@
+#include "sim/sph_run.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "millsim/backend/info.hpp"
+#include "millsim/core/error.hpp"
+#include "millsim/io/fields_writer.hpp"
+#include "sim/run_outputs.hpp"
+#include "sph/eos.hpp"
+#include "sph/geometry.hpp"
+#include "sph/sph_kernels.hpp"
+
+namespace millsim::sim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double gravityNorm(const scene::Scene& sc) {
+  return std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
+}
+
+int lineOf(const scene::Scene& sc, const std::string& element) {
+  const auto it = sc.element_lines.find(element);
+  return it == sc.element_lines.end() ? 0 : it->second;
+}
+
+}  // namespace
+
+std::vector<Probe> parseProbes(const scene::Scene& scene) {
+  std::vector<Probe> out;
+  std::stringstream items(scene.probes.points);
+  std::string item;
+  auto fail = [&](const std::string& what) {
+    throw core::InputError(scene.source, lineOf(scene, "probes"),
+                           "<probes points=\"" + scene.probes.points + "\">: " + what);
+  };
+  while (std::getline(items, item, ';')) {
+    item.erase(0, item.find_first_not_of(" \t\n"));
+    item.erase(item.find_last_not_of(" \t\n") + 1);
+    if (item.empty()) continue;
+    const auto colon = item.find(':');
+    if (colon == std::string::npos || colon == 0) fail("'" + item + "': expected name:x,y[,z]");
+    Probe p;
+    p.name = item.substr(0, colon);
+    for (char c : p.name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
+        fail("probe name '" + p.name + "': use letters, digits and _ only");
+    std::stringstream coords(item.substr(colon + 1));
+    std::string c;
+    int k = 0;
+    while (std::getline(coords, c, ',')) {
+      if (k >= 3) fail("'" + item + "': more than 3 coordinates");
+      std::size_t used = 0;
+      try {
+        p.x[k] = std::stod(c, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || c.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(p.x[k]))
+        fail("'" + item + "': '" + c + "' is not a number");
+      ++k;
+    }
+    if (k < 2) fail("'" + item + "': expected name:x,y[,z]");
+    for (const Probe& q : out)
+      if (q.name == p.name) fail("probe name '" + p.name + "' given twice");
+    out.push_back(p);
+  }
+  return out;
+}
+
+sph::SphSetup sphSetupOf(const scene::Scene& sc) {
+  const scene::SphParams& p = sc.sph;
+  sph::SphSetup s;
+  s.dimension = p.dimension;
+  s.kernel = p.kernel;
+  s.ddt = p.ddt;
+  s.viscosity = p.viscosity;
+  s.integrator = p.integrator;
+  s.shifting = p.shifting == "full";
+  s.dp = p.dp;
+  s.h = p.coefh * p.dp * std::sqrt(double(p.dimension));
+  const double hswl = p.hswl > 0 ? p.hswl : sc.fluid.y_max - sc.fluid.y_min;
+  s.c0 = p.coefsound * std::sqrt(gravityNorm(sc) * hswl);
+  if (!(s.c0 > 0))
+    throw core::InputError(sc.source, lineOf(sc, "sph"),
+                           "<sph>: the speed of sound is 0 (no gravity or no fluid height): give sph.hswl > 0");
+  s.rho0 = p.rho0;
+  s.gamma = p.gamma;
+  s.alpha = p.alpha;
+  s.visco_bound_factor = p.visco_bound_factor;
+  s.nu = p.nu;
+  s.ddt_value = p.ddt_value;
+  s.shift_coef = p.shift_coef;
+  s.shift_tfs = p.shift_tfs > 0 ? p.shift_tfs : (p.dimension == 2 ? 1.5 : 2.75);
+  s.verlet_steps = p.verlet_steps;
+  s.cfl = p.cfl;
+  s.fixed_dt = sc.time.dt_mode == "fixed";
+  s.dt_fixed = sc.time.dt_fixed;
+  s.rho_min = p.rhop_out_min;
+  s.rho_max = p.rhop_out_max;
+  s.gravity = sc.gravity;
+  // Domain: the tank (or the fluid) and its walls, with room above an open top for splashes;
+  // a rotating tank sweeps the circle through its corners.
+  const int layers = p.boundary_layers > 0 ? p.boundary_layers : static_cast<int>(std::ceil(2 * s.h / p.dp - 1e-9));
+  std::array<double, 3> lo, hi;
+  if (sc.has_tank) {
+    lo = {sc.tank.x_min, sc.tank.y_min, sc.tank.z_min};
+    hi = {sc.tank.x_max, sc.tank.y_max, sc.tank.z_max};
+  } else {
+    lo = {sc.fluid.x_min, sc.fluid.y_min, sc.fluid.z_min};
+    hi = {sc.fluid.x_max, sc.fluid.y_max, sc.fluid.z_max};
+  }
+  const double wall = (layers + 2) * p.dp;
+  s.motion_center = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  if (sc.has_tank && sc.tank.rotation_rpm != 0) {
+    const double r = 0.5 * std::hypot(hi[0] - lo[0], hi[1] - lo[1]) + wall;
+    for (int a = 0; a < 2; ++a) {
+      lo[a] = s.motion_center[a] - r;
+      hi[a] = s.motion_center[a] + r;
+    }
+  } else {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] -= wall;
+      hi[a] += wall;
+    }
+    if (!(sc.has_tank && sc.tank.closed)) hi[1] += hi[1] - lo[1];
+  }
+  lo[2] = std::min(lo[2], sc.fluid.z_min - wall);
+  hi[2] = std::max(hi[2], sc.fluid.z_max + wall);
+  s.domain_lo = lo;
+  s.domain_hi = hi;
+  return s;
+}
+
+sph::SphHostState sphParticlesOf(const scene::Scene& sc, const sph::SphSetup& s) {
+  sph::SphHostState st;
+  const int dim = sc.sph.dimension;
+  sph::fillFluidBox(st, {{sc.fluid.x_min, sc.fluid.y_min, sc.fluid.z_min}, {sc.fluid.x_max, sc.fluid.y_max, sc.fluid.z_max}},
+                    s.dp, dim, s.rho0);
+  if (st.size() == 0)
+    throw core::InputError(sc.source, lineOf(sc, "fluid"), "<fluid>: the box holds no particle at dp = " +
+                                                               std::to_string(s.dp) + " m (is it smaller than dp?)");
+  if (sc.has_tank) {
+    const int layers =
+        sc.sph.boundary_layers > 0 ? sc.sph.boundary_layers : static_cast<int>(std::ceil(2 * s.h / s.dp - 1e-9));
+    const int code = sc.tank.rotation_rpm != 0 ? sph::kBoundMoving : sph::kBoundFixed;
+    sph::addTankWalls(st, {{sc.tank.x_min, sc.tank.y_min, sc.tank.z_min}, {sc.tank.x_max, sc.tank.y_max, sc.tank.z_max}},
+                      s.dp, dim, layers, sc.tank.closed, code, s.rho0);
+  }
+  if (sc.sph.initial_density == "hydrostatic")
+    sph::hydrostaticDensity(st, sc.fluid.y_max, gravityNorm(sc), s.rho0, s.c0, s.gamma);
+  return st;
+}
+
+SphRun::SphRun(const scene::Scene& scene, const RunOptions& options) : m_scene(scene), m_options(options) {
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  if (options.precision != "double")
+    throw core::InputError("--precision " + options.precision + ": the SPH solver runs in double precision only");
+  m_setup = sphSetupOf(scene);
+  m_probes = parseProbes(scene);
+  std::string backend = options.backend;
+  if (backend == "auto") backend = backend::cudaDevices() > 0 ? "cuda" : "omp";
+  if (backend == "cuda") {
+#if defined(MILLSIM_HAVE_CUDA)
+    if (backend::cudaDevices() == 0) throw core::InputError("--backend cuda: no CUDA device found on this machine");
+    m_engine = sph::makeSphEngineCuda(m_setup);
+#else
+    throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
+#endif
+  } else if (backend == "omp") {
+    m_engine = sph::makeSphEngineOmp(m_setup);
+  } else {
+    throw core::InputError("--backend " + backend + ": expected auto, omp or cuda");
+  }
+  const sph::SphHostState particles = sphParticlesOf(scene, m_setup);
+  m_particles = particles.size();
+  m_engine->setState(particles);
+  m_omega_full = scene.has_tank ? scene.tank.rotation_rpm * 2 * std::acos(-1.0) / 60.0 : 0.0;
+  m_engine->initialize(motionAt(0));
+  const sph::SphSums s0 = m_engine->sums();
+  m_fluid0 = s0.fluid;
+  m_fluid_mass0 = s0.fluid_mass;
+}
+
+sph::SphMotion SphRun::motionAt(double t) const {
+  // Linear ramp of the rate over spin_up, then constant: theta is its integral.
+  const double ramp = m_scene.tank.spin_up;
+  sph::SphMotion m;
+  if (m_omega_full == 0) return m;
+  if (ramp > 0 && t < ramp) {
+    m.omega = m_omega_full * t / ramp;
+    m.theta = 0.5 * m_omega_full * t * t / ramp;
+  } else {
+    m.omega = m_omega_full;
+    m.theta = m_omega_full * (t - 0.5 * ramp);
+  }
+  return m;
+}
+
+std::vector<std::string> SphRun::stages() const {
+  std::vector<std::string> s{"neighbour_build", "sph_pressure", "sph_interaction"};
+  if (m_setup.viscosity == "laminar_sps") s.push_back("sph_sps_stress");
+  s.push_back(m_setup.integrator == "symplectic" ? "sph_symplectic" : "sph_verlet");
+  if (m_setup.shifting) s.push_back("sph_shifting");
+  return s;
+}
+
+void SphRun::writeSummary(const sph::SphSums& now, const std::vector<double>& last_probe) const {
+  const RunSummary& s = m_summary;
+  nlohmann::ordered_json j;
+  j["case"] = m_scene.name;
+  j["case_source"] = m_scene.source;
+  j["status"] = s.status;
+  if (!s.error.empty()) j["error"] = s.error;
+  j["backend"] = s.backend;
+  j["precision"] = s.precision;
+  j["threads"] = s.threads;
+  j["wall_time_s"] = s.wall_time_s;
+  j["simulated_time_s"] = s.simulated_time_s;
+  j["steps"] = s.steps;
+  j["dt_s"] = s.dt;
+  j["particles"] = {{"dem_spheres", 0}, {"sph", m_particles}, {"sph_fluid", m_fluid0}, {"sph_boundary", now.boundary}};
+  j["stages"] = stages();
+  nlohmann::ordered_json mem;
+  std::size_t total = 0;
+  for (const auto& [k, v] : m_engine->memoryBytes()) {
+    mem[k] = v;
+    total += v;
+  }
+  mem["total"] = total;
+  j["memory_bytes"] = mem;
+  j["sph"] = {{"dimension", m_setup.dimension}, {"dp_m", m_setup.dp},         {"h_m", m_setup.h},
+              {"c0_m_s", m_setup.c0},           {"kernel", m_setup.kernel},   {"ddt", m_setup.ddt},
+              {"viscosity", m_setup.viscosity}, {"integrator", m_setup.integrator}, {"shifting", m_setup.shifting}};
+  const long long excluded = now.excluded_density + now.excluded_domain;
+  j["excluded"] = {{"density", now.excluded_density},
+                   {"domain", now.excluded_domain},
+                   {"total", excluded},
+                   {"fraction", m_fluid0 > 0 ? double(excluded) / double(m_fluid0) : 0.0}};
+  j["fluid_mass_kg"] = {{"initial", m_fluid_mass0},
+                        {"active", now.fluid_mass},
+                        {"including_excluded", now.fluid_mass + double(excluded) * (m_fluid0 ? m_fluid_mass0 / m_fluid0 : 0.0)},
+                        {"per_metre_of_depth", m_setup.dimension == 2}};
+  j["energy"] = {{"kinetic_J", now.kinetic}, {"potential_J", now.potential}};
+  j["max_speed_m_s"] = now.max_speed;
+  j["front_x_m"] = now.max_x;
+  nlohmann::ordered_json probes = nlohmann::ordered_json::object();
+  for (std::size_t k = 0; k < m_probes.size(); ++k)
+    probes[m_probes[k].name] = std::isfinite(last_probe[k]) ? nlohmann::ordered_json(last_probe[k]) : nullptr;
+  j["probes_pressure_Pa"] = probes;
+  const fs::path path = fs::path(m_options.out_dir) / "summary.json";
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+  }
+  fs::rename(tmp, path);
+}
+
+const RunSummary& SphRun::run() {
+  const fs::path out(m_options.out_dir);
+  if (m_options.write_outputs) fs::create_directories(out);
+  m_summary = RunSummary{};
+  m_summary.backend = m_engine->backendName();
+  m_summary.precision = m_engine->precisionName();
+  m_summary.threads = m_summary.backend == std::string("omp") ? omp_get_max_threads() : 1;
+  m_summary.particles = m_particles;
+
+  std::vector<std::string> columns{"time_s",        "dt_s",    "kinetic_J",   "potential_J",      "max_speed_m_s",
+                                   "front_x_m",     "rho_min", "rho_max",     "fluid_particles", "excluded_density",
+                                   "excluded_domain", "tank_angle_deg"};
+  for (const Probe& p : m_probes) columns.push_back("p_" + p.name + "_Pa");
+  std::unique_ptr<SeriesWriter> series;
+  std::unique_ptr<io::FieldsWriter> fields;
+  if (m_options.write_outputs) {
+    series = std::make_unique<SeriesWriter>(out / "series.csv", columns, false);
+    if (m_scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, false);
+  }
+  const sph::TaitEos<double> eos = sph::TaitEos<double>::make(m_setup.rho0, m_setup.c0, m_setup.gamma);
+  double t = 0, dt = 0;
+  long long step = 0;
+  auto writeFields = [&]() {
+    sph::SphHostState s;
+    m_engine->getState(s);
+    io::FieldFrame f;
+    f.time = t;
+    f.step = step;
+    f.count = s.size();
+    f.position.assign(s.pos.begin(), s.pos.end());
+    f.arrays.push_back({"velocity", 3, std::vector<float>(s.vel.begin(), s.vel.end())});
+    f.arrays.push_back({"density", 1, std::vector<float>(s.rho.begin(), s.rho.end())});
+    std::vector<float> press(s.size()), code(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      press[i] = float(eos.pressure(s.rho[i]));
+      code[i] = float(s.code[i]);
+    }
+    f.arrays.push_back({"pressure", 1, press});
+    f.arrays.push_back({"code", 1, code});  // 0 fluid, 1 fixed wall, 2 moving wall, 3/4 excluded
+    fields->write(f);
+  };
+
+  const double t_end = m_scene.time.end;
+  double next_series = 0, next_fields = 0;
+  ProgressLine progress(m_options.progress, t_end);
+  std::vector<double> probe_values(m_probes.size(), std::numeric_limits<double>::quiet_NaN());
+  sph::SphSums now = m_engine->sums();
+  const auto wall0 = std::chrono::steady_clock::now();
+  auto finish = [&](const char* status) {
+    progress.finish();
+    m_summary.status = status;
+    m_summary.simulated_time_s = t;
+    m_summary.steps = step;
+    m_summary.dt = dt;
+    m_summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    m_summary.energy_kinetic = now.kinetic;
+    m_summary.energy_potential = now.potential;
+    if (m_options.write_outputs) writeSummary(now, probe_values);
+  };
+  try {
+    while (true) {
+      now = m_engine->sums();
+      const long long excluded = now.excluded_density + now.excluded_domain;
+      if (double(excluded) > m_scene.sph.parts_out_max * double(m_fluid0)) {
+        std::ostringstream m;
+        m << "SPH: " << excluded << " of " << m_fluid0 << " fluid particles excluded by t = " << t << " s ("
+          << now.excluded_density << " outside density [" << m_setup.rho_min << ", " << m_setup.rho_max << "] kg/m3, "
+          << now.excluded_domain << " outside the domain), more than sph.parts_out_max = " << m_scene.sph.parts_out_max
+          << ": the flow is unstable for this resolution and time step (lower cfl, raise coefsound or use ddt)";
+        throw core::SimulationError(m.str());
+      }
+      if (t >= next_series - 1e-12 * t_end) {
+        for (std::size_t k = 0; k < m_probes.size(); ++k) probe_values[k] = m_engine->probePressure(m_probes[k].x);
+        if (series) {
+          std::vector<double> row{t,
+                                  dt,
+                                  now.kinetic,
+                                  now.potential,
+                                  now.max_speed,
+                                  now.max_x,
+                                  now.rho_min,
+                                  now.rho_max,
+                                  double(now.fluid),
+                                  double(now.excluded_density),
+                                  double(now.excluded_domain),
+                                  motionAt(t).theta * 180.0 / std::acos(-1.0)};
+          row.insert(row.end(), probe_values.begin(), probe_values.end());
+          series->row(row);
+        }
+        next_series += m_scene.output.series_every;
+      }
+      if (fields && t >= next_fields - 1e-12 * t_end) {
+        writeFields();
+        next_fields += m_scene.output.fields_every;
+      }
+      if (t >= t_end - 1e-12 * t_end) break;
+      dt = std::min(m_engine->nextDt(), t_end - t);
+      m_engine->step(dt, motionAt(t + 0.5 * dt), motionAt(t + dt));
+      t += dt;
+      ++step;
+      progress.update(t, step);
+    }
+  } catch (const core::SimulationError& e) {
+    m_summary.error = e.what();
+    // Keep the state that failed next to the last good snapshots, for a look in ParaView.
+    if (fields) writeFields();
+    finish("failed");
+    throw;
+  }
+  finish("ok");
+  return m_summary;
+}
+
+}  // namespace millsim::sim
