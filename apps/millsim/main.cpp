@@ -1,10 +1,14 @@
-// millsim command line: run, validate, info, describe, angle-from-dumps, vision angle|slurry.
+// millsim command line: run, validate, info, describe, angle-from-dumps, vision angle|slurry,
+// compare-dam-break.
 // Exit codes: 0 ok, 2 bad input (file:line message; for vision: bad video path, unreadable
 // codec, no mill outline found), 3 the simulation went unstable (cause printed; last good state
 // kept in OUT/), 1 anything else (e.g. a surface that cannot be measured).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <sstream>
 #include <cstdio>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +20,8 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/io/particle_dump.hpp"
+#include "millsim/io/plot_png.hpp"
+#include "millsim/sim/martin_moyce.hpp"
 #include "millsim/sim/simulation.hpp"
 #include "millsim/vision/angle_overlay.hpp"
 #include "millsim/vision/front_view_angle.hpp"
@@ -224,6 +230,82 @@ int infoCommand() {
 
 }  // namespace
 
+// Reads series.csv of dam-break runs, compares each front with Martin & Moyce (1952) and plots
+// them together: Z/a against T = t sqrt(2 g / a).
+int compareDamBreakCommand(const std::vector<std::string>& dirs, double a, double g, const std::string& png,
+                           const std::vector<std::string>& labels) {
+  const std::array<std::array<int, 3>, 6> colours{{{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189},
+                                                   {255, 127, 14}, {23, 190, 207}}};
+  std::vector<millsim::io::PlotSeries> series;
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    const std::string csv = dirs[k] + "/series.csv";
+    std::ifstream in(csv);
+    if (!in) throw InputError(csv + ": cannot open (run the dam-break case with --out " + dirs[k] + " first)");
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> names;
+    std::stringstream header(line);
+    for (std::string c; std::getline(header, c, ',');) names.push_back(c);
+    const auto col = [&](const char* name) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      if (it == names.end()) throw InputError(csv + ": no column '" + name + "' (not an SPH run?)");
+      return static_cast<std::size_t>(it - names.begin());
+    };
+    const std::size_t ct = col("time_s"), cx = col("front_x_m");
+    std::vector<double> t, x;
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      std::stringstream row(line);
+      for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+      if (cells.size() <= std::max(ct, cx)) continue;
+      t.push_back(std::stod(cells[ct]));
+      x.push_back(std::stod(cells[cx]));
+    }
+    const auto c = millsim::sim::compareWithMartinMoyce(t, x, a, g);
+    nlohmann::ordered_json j;
+    j["run"] = dirs[k];
+    j["points"] = c.points;
+    j["max_error_raw"] = c.max_error_raw;
+    j["mean_error_raw"] = c.mean_error_raw;
+    j["time_origin_T0"] = c.shift_T;
+    j["max_error_shifted_T_0.8_2.5"] = c.max_error_shifted;
+    j["errors_raw"] = c.errors_raw;
+    out.push_back(j);
+    millsim::io::PlotSeries s;
+    s.label = k < labels.size() ? labels[k] : dirs[k];
+    s.rgb = colours[k % colours.size()];
+    const double scale = std::sqrt(2 * g / a);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      s.x.push_back(t[i] * scale);
+      s.y.push_back(x[i] / a);
+    }
+    series.push_back(s);
+  }
+  millsim::io::PlotSeries data;
+  data.label = "Martin & Moyce 1952";
+  data.line = false;
+  data.markers = true;
+  for (const auto& p : millsim::sim::martinMoyceFront()) {
+    data.x.push_back(p.T);
+    data.y.push_back(p.z_over_a);
+  }
+  series.push_back(data);
+  if (!png.empty()) {
+    millsim::io::PlotAxes axes;
+    axes.title = "Dam break: surge front";
+    axes.x_label = "T = t sqrt(2g/a)";
+    axes.y_label = "Z / a";
+    axes.x_min = 0;
+    axes.x_max = 3.5;
+    axes.y_min = 1;
+    axes.y_max = 4.5;
+    millsim::io::writeLinePlot(png, axes, series);
+  }
+  std::cout << out.dump(2) << std::endl;
+  return 0;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"millsim: DEM-SPH simulator for grinding mills"};
   app.require_subcommand(1);
@@ -262,6 +344,16 @@ int main(int argc, char** argv) {
   dump_angle->add_option("--fit-offset-mm", dump_args.angle.fit_offset_mm, "Fit starts this far right of the highest point")
       ->capture_default_str();
   dump_angle->add_option("--out", dump_args.out, "Write heatmap.png, angle_overlay.png, angle_edge.csv here");
+  auto* compare_db = app.add_subcommand(
+      "compare-dam-break", "Compare dam-break runs (their OUT dirs) with Martin & Moyce's surge front; plot them");
+  std::vector<std::string> db_dirs, db_labels;
+  double db_a = 0.05715, db_g = 9.81;
+  std::string db_png;
+  compare_db->add_option("dirs", db_dirs, "Output directories of dam-break runs")->required();
+  compare_db->add_option("--a", db_a, "Column width a [m] (M&M: 0.05715)");
+  compare_db->add_option("--g", db_g, "Gravity [m/s^2]");
+  compare_db->add_option("--png", db_png, "Write the plot of Z/a against T here");
+  compare_db->add_option("--labels", db_labels, "Legend label of each run")->delimiter(',');
   auto* describe = app.add_subcommand("describe", "Print every case-file element and attribute (markdown)");
 
   auto* vision = app.add_subcommand("vision", "Angle of repose and slurry curve from recordings of the mill's window");
@@ -314,6 +406,7 @@ int main(int argc, char** argv) {
                          ": give --video FILE or --images DIR" + (vision_slurry->parsed() ? " (or --points CSV)" : ""));
       return vision_angle->parsed() ? visionAngleCommand(a) : visionSlurryCommand(a);
     }
+    if (compare_db->parsed()) return compareDamBreakCommand(db_dirs, db_a, db_g, db_png, db_labels);
     if (describe->parsed()) {
       std::cout << millsim::io::describeCaseFormat();
       return 0;

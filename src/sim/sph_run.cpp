@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
+#include "millsim/io/plot_png.hpp"
 #include "sim/run_outputs.hpp"
 #include "sph/eos.hpp"
 #include "sph/geometry.hpp"
@@ -315,8 +317,33 @@ const RunSummary& SphRun::run() {
   std::vector<double> probe_values(m_probes.size(), std::numeric_limits<double>::quiet_NaN());
   sph::SphSums now = m_engine->sums();
   const auto wall0 = std::chrono::steady_clock::now();
+  // A picture of the last state (side view x-y, coloured by pressure), next to the numbers.
+  auto snapshot = [&]() {
+    sph::SphHostState s;
+    m_engine->getState(s);
+    std::vector<double> x, y, p;
+    std::vector<bool> wall;
+    double p_max = 1;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (sph::isExcluded(s.code[i])) continue;
+      x.push_back(s.pos[3 * i]);
+      y.push_back(s.pos[3 * i + 1]);
+      p.push_back(eos.pressure(s.rho[i]));
+      wall.push_back(s.code[i] != sph::kFluid);
+      if (!wall.back()) p_max = std::max(p_max, p.back());
+    }
+    const auto& lo = m_setup.domain_lo;
+    const auto& hi = m_setup.domain_hi;
+    const double px = 900.0 / std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    char title[160];
+    std::snprintf(title, sizeof title, "%s  t = %.3f s  (%s)", m_scene.name.c_str(), t,
+                  m_setup.dimension == 2 ? "x-y" : "x-y, all depths");
+    io::writeParticleSnapshot((out / "snapshot.png").string(), x, y, p, wall, 0.5 * m_setup.dp, {lo[0], hi[0], lo[1], hi[1]},
+                              px, 0.0, p_max, title, "p [Pa]");
+  };
   auto finish = [&](const char* status) {
     progress.finish();
+    if (m_options.write_outputs) snapshot();
     m_summary.status = status;
     m_summary.simulated_time_s = t;
     m_summary.steps = step;

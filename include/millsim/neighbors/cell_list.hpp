@@ -54,9 +54,10 @@ struct ClearCellsFunctor {
   }
 };
 
-// Grid covering [lo, hi] with cells of at least `cell` (the largest interaction distance).
+// Grid covering [lo, hi] with cells of at least `cell`; searches visit `reach` cells on each
+// side, so cell * reach must be at least the largest interaction distance.
 template <class T>
-CellGrid<T> makeGrid(core::Vec3<T> lo, core::Vec3<T> hi, T cell, bool two_d) {
+CellGrid<T> makeGrid(core::Vec3<T> lo, core::Vec3<T> hi, T cell, bool two_d, int reach = 1) {
   auto count = [&](T a, T b) {
     const int n = static_cast<int>(std::ceil((b - a) / cell));
     return n < 1 ? 1 : n;
@@ -67,6 +68,7 @@ CellGrid<T> makeGrid(core::Vec3<T> lo, core::Vec3<T> hi, T cell, bool two_d) {
   g.nx = count(lo.x, hi.x);
   g.ny = count(lo.y, hi.y);
   g.nz = two_d ? 1 : count(lo.z, hi.z);
+  g.reach = reach;
   return g;
 }
 

@@ -1,0 +1,67 @@
+// Issue 4, Done-when 7: bad SPH parameters stop with one line naming file:line, the element and
+// the attribute, and what is expected.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "millsim/core/error.hpp"
+#include "millsim/io/case_xml.hpp"
+#include "millsim/sim/simulation.hpp"
+
+namespace millsim {
+namespace {
+
+// Lines: millsim 1, time 2, sph 3, fluid 4, tank 5, probes 6.
+std::string fluidCase(const std::string& sph_attrs, const std::string& probes = "bottom:0.05,0.005") {
+  return "<millsim name=\"t\">\n"
+         "  <time end=\"0.01\"/>\n"
+         "  <sph dp=\"0.01\" " + sph_attrs + "/>\n"
+         "  <fluid x_min=\"0\" y_min=\"0\" x_max=\"0.1\" y_max=\"0.1\"/>\n"
+         "  <tank x_min=\"0\" y_min=\"0\" x_max=\"0.2\" y_max=\"0.15\"/>\n"
+         "  <probes points=\"" + probes + "\"/>\n"
+         "</millsim>\n";
+}
+
+std::string failure(const std::string& xml) {
+  try {
+    const scene::Scene s = io::loadCaseText(xml, "t.xml");
+    sim::RunOptions opt;
+    opt.write_outputs = false;
+    sim::Simulation simulation(s, opt);  // set-up checks (probes, geometry) happen here
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(SphCaseErrors, EachBadParameterNamesFileLineAndRule) {
+  EXPECT_EQ(failure(fluidCase("dimension=\"2\"")), "(no error)");
+  const std::string dp0 = "<millsim name=\"t\">\n  <time end=\"1\"/>\n  <sph dp=\"0\"/>\n"
+                          "  <fluid x_min=\"0\" y_min=\"0\" x_max=\"0.1\" y_max=\"0.1\"/>\n</millsim>\n";
+  EXPECT_EQ(failure(dp0), "t.xml:3: <sph dp=\"0\">: must be > 0 (m)");
+  const std::string dp_neg = dp0.substr(0, dp0.find("dp=\"0\"")) + "dp=\"-0.01\"" + dp0.substr(dp0.find("dp=\"0\"") + 6);
+  EXPECT_EQ(failure(dp_neg), "t.xml:3: <sph dp=\"-0.01\">: must be > 0 (m)");
+  EXPECT_EQ(failure(fluidCase("coefh=\"0.5\"")),
+            "t.xml:3: <sph coefh=\"0.5\">: gives h = 0.7071067811865476 dp, smaller than dp: must be >= "
+            "0.7071067811865475");
+  EXPECT_EQ(failure(fluidCase("cfl=\"0\"")), "t.xml:3: <sph cfl=\"0\">: must be in (0, 1]");
+  EXPECT_EQ(failure(fluidCase("cfl=\"1.5\"")), "t.xml:3: <sph cfl=\"1.5\">: must be in (0, 1]");
+  EXPECT_EQ(failure(fluidCase("rhop_out_min=\"1300\" rhop_out_max=\"1300\"")),
+            "t.xml:3: <sph rhop_out_max=\"1300\">: must be > sph.rhop_out_min = 1300 (kg/m^3)");
+  // rho0 itself (the default 1000) outside the limits: the element is blamed, with the default.
+  EXPECT_EQ(failure(fluidCase("rhop_out_min=\"1100\"")),
+            "t.xml:3: sph.rho0 = 1000 (default): must lie between sph.rhop_out_min and sph.rhop_out_max");
+}
+
+TEST(SphCaseErrors, BadProbesAndEmptyFluid) {
+  EXPECT_EQ(failure(fluidCase("", "bottom:0.05")),
+            "t.xml:6: <probes points=\"bottom:0.05\">: 'bottom:0.05': expected name:x,y[,z]");
+  EXPECT_EQ(failure(fluidCase("", "a:0.1,x")), "t.xml:6: <probes points=\"a:0.1,x\">: 'a:0.1,x': 'x' is not a number");
+  EXPECT_EQ(failure(fluidCase("", "a:0,0;a:1,1")),
+            "t.xml:6: <probes points=\"a:0,0;a:1,1\">: probe name 'a' given twice");
+  EXPECT_EQ(failure(fluidCase("dp=\"0.5\"").replace(fluidCase("dp=\"0.5\"").find("dp=\"0.01\" "), 10, "")),
+            "t.xml:4: <fluid>: the box holds no particle at dp = 0.500000 m (is it smaller than dp?)");
+}
+
+}  // namespace
+}  // namespace millsim
