@@ -27,7 +27,7 @@ AnalyticObjective smoothBowl(double e0, double mu0) {
 AnalyticObjective curvedValley(double e0, double mu0) {
   return AnalyticObjective("valley", [e0, mu0](double e, double mu) {
     const double x = 1 + (e - e0) / 0.1, y = 1 + (mu - mu0) / 0.1;
-    return (x - 1) * (x - 1) + 100 * (y - x * x) * (y - x * x);
+    return (x - 1) * (x - 1) + 10 * (y - x * x) * (y - x * x);
   });
 }
 

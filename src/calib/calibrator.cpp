@@ -142,7 +142,18 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
     evaluateBatch(batch);
   }
 
-  // 3. The final surrogate on a grid: the map and its minimum.
+  // 3. The result, the final surrogate on a grid: the map and its minimum.
+  {
+    std::vector<int> ok;
+    for (std::size_t i = 0; i < state.evaluations.size(); ++i)
+      if (state.evaluations[i].ok) ok.push_back(static_cast<int>(i));
+    const std::vector<DataPoint> d = data(state.evaluations);
+    const int k = m_proposer->recommend(d);
+    if (k >= 0) {
+      result.recommended = ok[k];
+      result.recommended_mean = m_proposer->surface(d, {d[k].x})[0];
+    }
+  }
   const int n = result.surface_n;
   std::vector<Point2> grid;
   for (int j = 0; j < n; ++j)

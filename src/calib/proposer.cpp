@@ -36,6 +36,13 @@ void split(const std::vector<DataPoint>& data, std::vector<Point2>& x, std::vect
 
 }  // namespace
 
+int Proposer::recommend(const std::vector<DataPoint>& data) const {
+  int best = -1;
+  for (std::size_t i = 0; i < data.size(); ++i)
+    if (best < 0 || data[i].sse < data[best].sse) best = static_cast<int>(i);
+  return best;
+}
+
 std::vector<Point2> PaperProposer::propose(const std::vector<DataPoint>& data, const std::vector<Point2>& avoid,
                                            int count) const {
   std::vector<Point2> x, chosen, blocked = avoid;
@@ -113,6 +120,18 @@ std::vector<double> GpProposer::surface(const std::vector<DataPoint>& data, cons
   const GaussianProcess gp = GaussianProcess::fit(x, y, m_min_nugget);
   for (std::size_t i = 0; i < at.size(); ++i) out[i] = gp.mean(at[i]);
   return out;
+}
+
+int GpProposer::recommend(const std::vector<DataPoint>& data) const {
+  if (data.size() < 3) return Proposer::recommend(data);
+  std::vector<Point2> x;
+  std::vector<double> y;
+  split(data, x, y);
+  const GaussianProcess gp = GaussianProcess::fit(x, y, m_min_nugget);
+  int best = 0;
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (gp.mean(x[i]) < gp.mean(x[best])) best = static_cast<int>(i);
+  return best;
 }
 
 std::unique_ptr<Proposer> makeProposer(const std::string& method, const SearchOptions& search) {

@@ -25,9 +25,10 @@ class AnalyticObjective : public Objective {
 // like the angle SSE: sse = ((e - e0) / 0.05)^2 + ((mu - mu0) / 0.08)^2.
 AnalyticObjective smoothBowl(double e0, double mu0);
 
-// Narrow curved valley: Rosenbrock's banana in scaled coordinates x = 1 + (e - e0) / 0.1,
-// y = 1 + (mu - mu0) / 0.1: sse = (x - 1)^2 + 100 (y - x^2)^2. The floor is the parabola
-// y = x^2, rising only as (x - 1)^2 along it while the walls are 100 times steeper; the
+// Narrow curved valley: a Rosenbrock-type banana in scaled coordinates x = 1 + (e - e0) / 0.1,
+// y = 1 + (mu - mu0) / 0.1: sse = (x - 1)^2 + 10 (y - x^2)^2. The floor is the parabola
+// y = x^2, rising only as (x - 1)^2 along it while the walls are 10 times steeper (100, as in
+// Rosenbrock, makes it 0.003 wide in mu at SSE 0.1, narrower than any proposal spacing); the
 // minimum 0 is at (e0, mu0).
 AnalyticObjective curvedValley(double e0, double mu0);
 

@@ -43,8 +43,10 @@ struct CalibrationState {
 
 struct CalibrationResult {
   CalibrationState state;
-  std::string stop_reason;     // "patience" | "max_evals" | "no candidate left"
-  Point2 surrogate_min{0, 0};  // argmin of the final surrogate on the surface grid, physical (e, mu)
+  int recommended = -1;         // position in state.evaluations of the result (Proposer::recommend)
+  double recommended_mean = 0;  // the surrogate's SSE there (bo: GP mean; paper: the observed SSE)
+  std::string stop_reason;      // "patience" | "max_evals" | "no candidate left"
+  Point2 surrogate_min{0, 0};   // argmin of the final surrogate on the surface grid, physical (e, mu)
   double surrogate_min_sse = 0;
   int surface_n = 101;  // the final surrogate on an n x n grid over the box (sse_map.hpp layout)
   std::vector<double> surface;

@@ -30,6 +30,10 @@ class Proposer {
                                       int count) const = 0;
   // Surrogate SSE over the unit square from `data` (for the map and the reported optimum).
   virtual std::vector<double> surface(const std::vector<DataPoint>& data, const std::vector<Point2>& at) const = 0;
+  // Position in `data` of the point to report as the result: the lowest SSE (paper), or the
+  // lowest GP mean among the evaluated points (bo: with noisy SSEs the lowest observation is
+  // often a lucky draw, the posterior mean averages its neighbours).
+  virtual int recommend(const std::vector<DataPoint>& data) const;
   virtual std::string name() const = 0;
 };
 
@@ -53,6 +57,7 @@ class GpProposer : public Proposer {
   std::vector<Point2> propose(const std::vector<DataPoint>& data, const std::vector<Point2>& avoid,
                               int count) const override;
   std::vector<double> surface(const std::vector<DataPoint>& data, const std::vector<Point2>& at) const override;
+  int recommend(const std::vector<DataPoint>& data) const override;
   std::string name() const override { return "bo"; }
 
  private:
