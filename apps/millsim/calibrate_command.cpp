@@ -217,8 +217,11 @@ int calibrateCommand(const CalibrateArgs& a) {
   // --- outputs ---
   const std::filesystem::path out(a.out);
   calib::writeSseMap((out / "sse_map.png").string(), options.box, r.surface, r.surface_n, s.evaluations,
-                     options.initial, s.best);
-  const calib::Evaluation& best = s.evaluations[s.best];
+                     options.initial, r.recommended >= 0 ? r.recommended : s.best);
+  // The result: Proposer::recommend (paper: the lowest SSE; bo: the lowest GP mean among the
+  // evaluated candidates, which noise fools less than the lowest observation).
+  const calib::Evaluation& best = s.evaluations[r.recommended >= 0 ? r.recommended : s.best];
+  const calib::Evaluation& lowest = s.evaluations[s.best];
   long long runs = 0;
   for (const auto& ev : s.evaluations) runs += static_cast<long long>(ev.angles_deg.size());
   double sim_wall = 0;
@@ -230,6 +233,11 @@ int calibrateCommand(const CalibrateArgs& a) {
                {"sse", best.sse},
                {"candidate", best.candidate.index + 1},
                {"angles_deg", anglesJson(labels, best.angles_deg)}};
+  j["best"]["surrogate_sse"] = r.recommended_mean;
+  j["lowest_observed"] = {{"e", lowest.candidate.e},
+                          {"mu", lowest.candidate.mu},
+                          {"sse", lowest.sse},
+                          {"candidate", lowest.candidate.index + 1}};
   j["measured_deg"] = anglesJson(labels, config.measured_deg);
   j["surrogate_min"] = {{"e", r.surrogate_min[0]}, {"mu", r.surrogate_min[1]}, {"sse", r.surrogate_min_sse}};
   j["iterations"] = s.evaluations.size();

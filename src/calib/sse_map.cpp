@@ -81,18 +81,22 @@ void writeSseMap(const std::string& path, const ParamBox& box, const std::vector
   lo = std::max(0.0, lo);
   if (!(hi > lo)) hi = lo + 1;
 
+  // Square-root scale: SSEs span orders of magnitude (a far corner is 100x the optimum), and on
+  // a linear scale the whole basin would be one colour.
+  const double rlo = std::sqrt(lo), rhi = std::sqrt(hi);
+  const auto scale = [&](double v) { return (std::sqrt(std::max(v, 0.0)) - rlo) / (rhi - rlo); };
+  const auto unscale = [&](double t) { return (rlo + t * (rhi - rlo)) * (rlo + t * (rhi - rlo)); };
   cv::Mat field(S, S, CV_64F);
   for (int py = 0; py < S; ++py)
     for (int px = 0; px < S; ++px) {
       const double v = sample(surface, n, px / (S - 1.0), 1.0 - py / (S - 1.0));
       field.at<double>(py, px) = v;
-      img.at<cv::Vec3b>(kTop + py, kLeft + px) =
-          std::isfinite(v) ? colour((v - lo) / (hi - lo)) : cv::Vec3b(200, 200, 200);
+      img.at<cv::Vec3b>(kTop + py, kLeft + px) = std::isfinite(v) ? colour(scale(v)) : cv::Vec3b(200, 200, 200);
     }
   // Contours at evenly spaced levels: boundaries of {value < level}.
   cv::Mat roi = img(cv::Rect(kLeft, kTop, S, S));
   for (int k = 1; k < options.levels; ++k) {
-    const double level = lo + (hi - lo) * k / options.levels;
+    const double level = unscale(static_cast<double>(k) / options.levels);
     cv::Mat below = field < level;
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(below, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
@@ -167,10 +171,10 @@ void writeSseMap(const std::string& path, const ParamBox& box, const std::vector
   for (int k = 0; k <= 5; ++k) {
     const int y = kTop + static_cast<int>(std::lround((1 - k / 5.0) * (S - 1)));
     cv::line(img, {bx + kBarWidth, y}, {bx + kBarWidth + 5, y}, kBlack, 1);
-    const double v = lo + k / 5.0 * (hi - lo);
+    const double v = unscale(k / 5.0);
     text(img, fmt(v < 10 ? "%.2f" : "%.1f", v), {bx + kBarWidth + 8, y + 5}, 0.42);
   }
-  text(img, "SSE", {bx + kBarWidth / 2, kTop - 8}, 0.42, 1);
+  text(img, "SSE (sqrt scale)", {bx + kBarWidth / 2 + 10, kTop - 8}, 0.38, 1);
   text(img, "squares: initial candidates, circles: later ones (numbered in order), x: failed, star: best",
        {kLeft + S / 2, kTop + S + 70}, 0.36, 1);
 

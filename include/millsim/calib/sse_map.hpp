@@ -1,7 +1,7 @@
 #pragma once
 // OUT/sse_map.png, the calibration's picture in the manner of the paper's Figure 20: the
-// surrogate SSE over the (e, mu) box as a heat map (green low to red high), contour lines at
-// evenly spaced levels, every evaluated candidate marked (initial ones as squares, later ones as
+// surrogate SSE over the (e, mu) box as a heat map (green low to red high, square-root scale),
+// contour lines at levels evenly spaced on that scale, every evaluated candidate marked (initial ones as squares, later ones as
 // circles, failed ones as crosses) and the best one as a star, axis ticks and labels, and a
 // colour bar with its SSE scale. Drawn with OpenCV.
 #include <string>
