@@ -1,5 +1,5 @@
 // millsim command line: run, validate, info, describe, angle-from-dumps, vision angle|slurry,
-// compare-dam-break.
+// compare-dam-break, calibrate (calibrate_command.cpp).
 // Exit codes: 0 ok, 2 bad input (file:line message; for vision: bad video path, unreadable
 // codec, no mill outline found), 3 the simulation went unstable (cause printed; last good state
 // kept in OUT/), 1 anything else (e.g. a surface that cannot be measured).
@@ -16,6 +16,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "calibrate_command.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
@@ -381,6 +382,9 @@ int main(int argc, char** argv) {
   vision_slurry->add_option("--confidence", slurry_args.slurry.confidence, "Confidence of the band")
       ->capture_default_str();
 
+  millsim::cli::CalibrateArgs calibrate_args;
+  auto* calibrate = millsim::cli::addCalibrateCommand(app, calibrate_args);
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) {
@@ -398,6 +402,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (info->parsed()) return infoCommand();
+    if (calibrate->parsed()) return millsim::cli::calibrateCommand(calibrate_args);
     if (dump_angle->parsed()) return angleFromDumpsCommand(dump_args);
     if (vision_angle->parsed() || vision_slurry->parsed()) {
       VisionArgs& a = vision_angle->parsed() ? angle_args : slurry_args;
