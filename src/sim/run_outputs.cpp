@@ -26,9 +26,7 @@ void SeriesWriter::row(const std::vector<double>& values) {
   m_out.flush();
 }
 
-void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
-                      const std::map<std::string, std::size_t>& memory, const std::string& case_name,
-                      const std::string& case_source) {
+nlohmann::ordered_json summaryHead(const RunSummary& s, const std::string& case_name, const std::string& case_source) {
   nlohmann::ordered_json j;
   j["case"] = case_name;
   j["case_source"] = case_source;
@@ -41,10 +39,10 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
   j["simulated_time_s"] = s.simulated_time_s;
   j["steps"] = s.steps;
   j["dt_s"] = s.dt;
-  j["neighbour_rebuilds"] = s.neighbour_rebuilds;
-  j["particles"] = {{"dem_spheres", s.particles}, {"sph", 0}};
-  j["charge_mass_kg"] = s.charge_mass_kg;
-  j["stages"] = stages;
+  return j;
+}
+
+nlohmann::ordered_json memoryJson(const std::map<std::string, std::size_t>& memory) {
   nlohmann::ordered_json mem;
   std::size_t total = 0;
   for (const auto& [k, v] : memory) {
@@ -52,7 +50,27 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
     total += v;
   }
   mem["total"] = total;
-  j["memory_bytes"] = mem;
+  return mem;
+}
+
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::ordered_json& j) {
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
+                      const std::map<std::string, std::size_t>& memory, const std::string& case_name,
+                      const std::string& case_source) {
+  nlohmann::ordered_json j = summaryHead(s, case_name, case_source);
+  j["neighbour_rebuilds"] = s.neighbour_rebuilds;
+  j["particles"] = {{"dem_spheres", s.particles}, {"sph", 0}};
+  j["charge_mass_kg"] = s.charge_mass_kg;
+  j["stages"] = stages;
+  j["memory_bytes"] = memoryJson(memory);
   if (s.angle_valid) {
     j["angle_of_repose_deg"] = s.angle_of_repose_deg;
     j["angle_of_repose_stderr_deg"] = s.angle_stderr_deg;
@@ -68,12 +86,17 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
   j["energy"] = {{"kinetic_J", s.energy_kinetic},     {"potential_J", s.energy_potential},
                  {"dissipated_J", s.energy_dissipated}, {"work_in_J", s.energy_work_in},
                  {"elastic_J", s.energy_elastic},     {"budget_residual_J", s.energy_residual}};
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-  }
-  std::filesystem::rename(tmp, path);
+  writeJsonFile(path, j);
+}
+
+io::FieldFrame fieldFrame(double t, long long step, const std::vector<double>& pos, const std::vector<double>& vel) {
+  io::FieldFrame f;
+  f.time = t;
+  f.step = step;
+  f.count = pos.size() / 3;
+  f.position.assign(pos.begin(), pos.end());
+  f.arrays.push_back({"velocity", 3, std::vector<float>(vel.begin(), vel.end())});
+  return f;
 }
 
 ProgressLine::ProgressLine(bool enabled, double t_end) : m_enabled(enabled), m_t_end(t_end) {

@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "millsim/io/fields_writer.hpp"
 #include "millsim/sim/simulation.hpp"
 
 namespace millsim::sim {
@@ -21,6 +24,15 @@ class SeriesWriter {
  private:
   std::ofstream m_out;
 };
+
+// The fields every summary.json opens with (case, status, backend, times, steps, dt).
+nlohmann::ordered_json summaryHead(const RunSummary& s, const std::string& case_name, const std::string& case_source);
+// Bytes by array group, plus "total".
+nlohmann::ordered_json memoryJson(const std::map<std::string, std::size_t>& memory);
+// Through a temporary file and a rename: a reader never sees half a file.
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::ordered_json& j);
+// A fields snapshot with positions and velocities (3 per particle); callers add their arrays.
+io::FieldFrame fieldFrame(double t, long long step, const std::vector<double>& pos, const std::vector<double>& vel);
 
 void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
                       const std::map<std::string, std::size_t>& memory, const std::string& case_name,

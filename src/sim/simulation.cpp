@@ -217,12 +217,7 @@ void Simulation::Impl::run() {
   auto writeFields = [&]() {
     dem::DemHostState s;
     engine->getState(s);
-    io::FieldFrame f;
-    f.time = t;
-    f.step = step;
-    f.count = s.size();
-    f.position.assign(s.pos.begin(), s.pos.end());
-    f.arrays.push_back({"velocity", 3, std::vector<float>(s.vel.begin(), s.vel.end())});
+    io::FieldFrame f = fieldFrame(t, step, s.pos, s.vel);
     f.arrays.push_back({"angular_velocity", 3, std::vector<float>(s.omega.begin(), s.omega.end())});
     f.arrays.push_back({"radius", 1, std::vector<float>(s.radius.begin(), s.radius.end())});
     std::vector<float> diss(s.dissipated.begin(), s.dissipated.end());

@@ -219,28 +219,10 @@ std::vector<std::string> SphRun::stages() const {
 
 void SphRun::writeSummary(const sph::SphSums& now, const std::vector<double>& last_probe) const {
   const RunSummary& s = m_summary;
-  nlohmann::ordered_json j;
-  j["case"] = m_scene.name;
-  j["case_source"] = m_scene.source;
-  j["status"] = s.status;
-  if (!s.error.empty()) j["error"] = s.error;
-  j["backend"] = s.backend;
-  j["precision"] = s.precision;
-  j["threads"] = s.threads;
-  j["wall_time_s"] = s.wall_time_s;
-  j["simulated_time_s"] = s.simulated_time_s;
-  j["steps"] = s.steps;
-  j["dt_s"] = s.dt;
+  nlohmann::ordered_json j = summaryHead(s, m_scene.name, m_scene.source);
   j["particles"] = {{"dem_spheres", 0}, {"sph", m_particles}, {"sph_fluid", m_fluid0}, {"sph_boundary", now.boundary}};
   j["stages"] = stages();
-  nlohmann::ordered_json mem;
-  std::size_t total = 0;
-  for (const auto& [k, v] : m_engine->memoryBytes()) {
-    mem[k] = v;
-    total += v;
-  }
-  mem["total"] = total;
-  j["memory_bytes"] = mem;
+  j["memory_bytes"] = memoryJson(m_engine->memoryBytes());
   j["sph"] = {{"dimension", m_setup.dimension}, {"dp_m", m_setup.dp},         {"h_m", m_setup.h},
               {"c0_m_s", m_setup.c0},           {"kernel", m_setup.kernel},   {"ddt", m_setup.ddt},
               {"viscosity", m_setup.viscosity}, {"integrator", m_setup.integrator}, {"shifting", m_setup.shifting}};
@@ -260,13 +242,7 @@ void SphRun::writeSummary(const sph::SphSums& now, const std::vector<double>& la
   for (std::size_t k = 0; k < m_probes.size(); ++k)
     probes[m_probes[k].name] = std::isfinite(last_probe[k]) ? nlohmann::ordered_json(last_probe[k]) : nullptr;
   j["probes_pressure_Pa"] = probes;
-  const fs::path path = fs::path(m_options.out_dir) / "summary.json";
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-  }
-  fs::rename(tmp, path);
+  writeJsonFile(fs::path(m_options.out_dir) / "summary.json", j);
 }
 
 const RunSummary& SphRun::run() {
@@ -294,12 +270,7 @@ const RunSummary& SphRun::run() {
   auto writeFields = [&]() {
     sph::SphHostState s;
     m_engine->getState(s);
-    io::FieldFrame f;
-    f.time = t;
-    f.step = step;
-    f.count = s.size();
-    f.position.assign(s.pos.begin(), s.pos.end());
-    f.arrays.push_back({"velocity", 3, std::vector<float>(s.vel.begin(), s.vel.end())});
+    io::FieldFrame f = fieldFrame(t, step, s.pos, s.vel);
     f.arrays.push_back({"density", 1, std::vector<float>(s.rho.begin(), s.rho.end())});
     std::vector<float> press(s.size()), code(s.size());
     for (std::size_t i = 0; i < s.size(); ++i) {

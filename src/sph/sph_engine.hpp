@@ -72,6 +72,15 @@ class SphEngine {
   // Shepard-interpolated fluid pressure at a point (probe), Pa; NaN when no fluid within 2h.
   virtual double probePressure(const std::array<double, 3>& x) const = 0;
   virtual std::map<std::string, std::size_t> memoryBytes() const = 0;
+  // Particle pairs within 2h evaluated by one force evaluation (fluid-fluid pairs twice, once
+  // from each side; wall-fluid pairs twice: the wall's continuity and the fluid's forces):
+  // the "particle interactions" of throughput figures. A diagnostic: one extra search.
+  virtual double interactionsPerEvaluation() = 0;
+  // Force evaluations per step: 1 (Verlet) or 2 (symplectic).
+  int evaluationsPerStep() const { return m_evaluations_per_step; }
+
+ protected:
+  int m_evaluations_per_step = 1;
 };
 
 std::unique_ptr<SphEngine> makeSphEngineOmp(const SphSetup& setup);

@@ -88,6 +88,24 @@ struct ProbeSum {
   }
 };
 
+// Neighbours within 2h that particle a interacts with (the interaction's own search).
+template <class T>
+struct CountInteractions {
+  neighbors::CellListView<T> cells, fluid_cells;
+  const Vec3<T>* pos;
+  const int* code;
+  T support2;
+  MILLSIM_HD double operator()(int a) const {
+    if (isExcluded(code[a])) return 0.0;
+    const bool fluid = code[a] == kFluid;
+    double n = 0;
+    (fluid ? cells : fluid_cells).forEachCandidate(pos[a], [&](int b) {
+      if (b != a && core::norm2(pos[a] - pos[b]) < support2) n += 1;
+    });
+    return n;
+  }
+};
+
 template <class T>
 struct ReadT {
   const T* v;
@@ -119,6 +137,13 @@ class SphSolver final : public SphEngine {
     m_cells.setGrid(neighbors::makeGrid<T>(lo, hi, T(s.h), Dim == 2, 2));
     m_fluid_cells.setGrid(m_cells.grid());
     m_symplectic = s.integrator == "symplectic";
+    m_evaluations_per_step = m_symplectic ? 2 : 1;
+  }
+
+  double interactionsPerEvaluation() override {
+    return backend::reduceSum<double>(Space{}, m_n,
+                                      CountInteractions<T>{m_cells.view(), m_fluid_cells.view(), m_pos.data(),
+                                                           m_code.data(), m_support2});
   }
 
   const char* backendName() const override { return Space::kName; }

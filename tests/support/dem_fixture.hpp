@@ -36,6 +36,21 @@ inline dem::DrumState stillDrum() {
   return w;
 }
 
+// Solid spheres of the given density (I = 2/5 m r^2).
+inline dem::DemHostState hostState(const std::vector<Ball>& balls, double density) {
+  dem::DemHostState s;
+  for (const auto& b : balls) {
+    s.pos.insert(s.pos.end(), {b.x, b.y, b.z});
+    s.vel.insert(s.vel.end(), {b.vx, b.vy, b.vz});
+    s.omega.insert(s.omega.end(), {b.wx, b.wy, b.wz});
+    s.radius.push_back(b.r);
+    const double m = ballMass(b.r, density);
+    s.mass.push_back(m);
+    s.inertia.push_back(0.4 * m * b.r * b.r);
+  }
+  return s;
+}
+
 inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std::vector<Ball>& balls) {
   dem::DemSetup setup;
   setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
@@ -64,17 +79,7 @@ inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std:
   setup.domain_lo = lo;
   setup.domain_hi = hi;
   auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
-  dem::DemHostState s;
-  for (const auto& b : balls) {
-    s.pos.insert(s.pos.end(), {b.x, b.y, b.z});
-    s.vel.insert(s.vel.end(), {b.vx, b.vy, b.vz});
-    s.omega.insert(s.omega.end(), {b.wx, b.wy, b.wz});
-    s.radius.push_back(b.r);
-    const double m = ballMass(b.r, sc.density);
-    s.mass.push_back(m);
-    s.inertia.push_back(0.4 * m * b.r * b.r);
-  }
-  engine->setState(s);
+  engine->setState(hostState(balls, sc.density));
   engine->initialize(stillDrum());
   return engine;
 }

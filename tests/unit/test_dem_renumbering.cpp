@@ -85,20 +85,6 @@ std::unique_ptr<dem::DemEngine> drumEngine(const dem::DemHostState& s) {
   return e;
 }
 
-dem::DemHostState hostState(const std::vector<testing::Ball>& balls) {
-  dem::DemHostState s;
-  for (const auto& b : balls) {
-    s.pos.insert(s.pos.end(), {b.x, b.y, b.z});
-    s.vel.insert(s.vel.end(), {b.vx, b.vy, b.vz});
-    s.omega.insert(s.omega.end(), {b.wx, b.wy, b.wz});
-    s.radius.push_back(b.r);
-    const double m = testing::ballMass(b.r, 7800.0);
-    s.mass.push_back(m);
-    s.inertia.push_back(0.4 * m * b.r * b.r);
-  }
-  return s;
-}
-
 constexpr double kDt = 2e-6;  // ~ t_c / 60 for these balls at 1 m/s
 
 void advance(dem::DemEngine& e, int& step, int steps) {
@@ -121,7 +107,7 @@ double relativeDifference(const dem::DemHostState& a, const dem::DemHostState& b
 
 // Settles the charge for 0.15 s so most balls are in lasting, sticking and sliding contacts.
 dem::DemHostState settledCharge(int& step) {
-  auto e = drumEngine(hostState(tumblingCharge()));
+  auto e = drumEngine(testing::hostState(tumblingCharge(), 7800.0));
   e->initialize(drumAt(0));
   advance(*e, step, 75000);
   return testing::state(*e);

@@ -63,5 +63,28 @@ TEST(SphCaseErrors, BadProbesAndEmptyFluid) {
             "t.xml:4: <fluid>: the box holds no particle at dp = 0.500000 m (is it smaller than dp?)");
 }
 
+// Issue 4: only what the scene calls for. A fluid-only case has no DEM arrays and no DEM stage;
+// options that are off allocate nothing (no shifting arrays without shifting, no SPS stress
+// without laminar_sps, no symplectic copies with Verlet).
+TEST(SphScene, FluidOnlyRunHasNoDemAndNoUnusedArrays) {
+  sim::RunOptions opt;
+  opt.write_outputs = false;
+  sim::Simulation plain(io::loadCaseText(fluidCase(""), "t.xml"), opt);
+  for (const auto& [group, bytes] : plain.memoryReport()) {
+    EXPECT_EQ(group.rfind("dem", 0), std::string::npos) << group;
+    if (group == "sph.shifting" || group == "sph.sps") {
+      EXPECT_EQ(bytes, 0u) << group;
+    }
+  }
+  for (const auto& stage : plain.stages()) EXPECT_EQ(stage.find("dem"), std::string::npos) << stage;
+  sim::Simulation full(
+      io::loadCaseText(fluidCase("shifting=\"full\" viscosity=\"laminar_sps\" integrator=\"symplectic\""), "t.xml"),
+      opt);
+  const auto mem = full.memoryReport();
+  EXPECT_GT(mem.at("sph.shifting"), 0u);
+  EXPECT_GT(mem.at("sph.sps"), 0u);
+  EXPECT_GT(mem.at("sph.integrator"), plain.memoryReport().at("sph.integrator"));  // 3 copies instead of 2
+}
+
 }  // namespace
 }  // namespace millsim
