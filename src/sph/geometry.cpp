@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "sph/sph_kernels.hpp"
 
@@ -16,6 +17,11 @@ void add(SphHostState& s, double x, double y, double z, int code, double rho) {
   s.vel.insert(s.vel.end(), {0.0, 0.0, 0.0});
   s.rho.push_back(rho);
   s.code.push_back(code);
+  // Keep the body arrays (when a case has bodies) one entry per particle.
+  if (!s.body.empty() && code != kBoundBody) {
+    s.body.push_back(-1);
+    s.offset.insert(s.offset.end(), {0.0, 0.0, 0.0});
+  }
 }
 
 }  // namespace
@@ -46,6 +52,44 @@ void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layer
         if (inside_x && inside_y && inside_z) continue;  // the tank's interior
         add(s, coord(0, i), coord(1, j), dim == 2 ? 0.0 : coord(2, k), code, rho0);
       }
+}
+
+void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
+                    double rho0) {
+  // Body data for the particles already there (walls, fluid): none.
+  s.body.resize(s.size(), -1);
+  s.offset.resize(3 * s.size(), 0.0);
+  const int n = static_cast<int>(std::ceil(r / dp)) + 1;
+  const double inner = r - layers * dp;
+  for (int k = dim == 2 ? 0 : -n; k <= (dim == 2 ? 0 : n); ++k)
+    for (int j = -n; j <= n; ++j)
+      for (int i = -n; i <= n; ++i) {
+        // A lattice with a point at the centre: the shell is symmetric about it.
+        const double dx = i * dp, dy = j * dp, dz = k * dp;
+        const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (d >= r || d < inner) continue;
+        add(s, c[0] + dx, c[1] + dy, dim == 2 ? 0.0 : c[2] + dz, kBoundBody, rho0);
+        s.body.push_back(body);
+        s.offset.insert(s.offset.end(), {dx, dy, dz});
+      }
+}
+
+void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearance) {
+  SphHostState out;
+  const bool bodies = s.body.size() == s.size();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double dx = s.pos[3 * i] - c[0], dy = s.pos[3 * i + 1] - c[1], dz = s.pos[3 * i + 2] - c[2];
+    if (s.code[i] == kFluid && dx * dx + dy * dy + dz * dz < clearance * clearance) continue;
+    out.pos.insert(out.pos.end(), {s.pos[3 * i], s.pos[3 * i + 1], s.pos[3 * i + 2]});
+    out.vel.insert(out.vel.end(), {s.vel[3 * i], s.vel[3 * i + 1], s.vel[3 * i + 2]});
+    out.rho.push_back(s.rho[i]);
+    out.code.push_back(s.code[i]);
+    if (bodies) {
+      out.body.push_back(s.body[i]);
+      out.offset.insert(out.offset.end(), {s.offset[3 * i], s.offset[3 * i + 1], s.offset[3 * i + 2]});
+    }
+  }
+  s = std::move(out);
 }
 
 void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma) {

@@ -23,6 +23,15 @@ void fillFluidBox(SphHostState& s, const Box& box, double dp, int dim, double rh
 void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layers, bool closed_top, int code,
                   double rho0);
 
+// Appends the shell of a spherical body (a disc in 2D) of radius r centred at c: the points of
+// a lattice of spacing dp centred on c with r - layers dp <= |x - c| < r, as body particles
+// (code kBoundBody) of body `body`, with their offsets from c.
+void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
+                    double rho0);
+
+// Removes the fluid particles closer than `clearance` to c (the space of a body).
+void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearance);
+
 // Sets every particle's density to the hydrostatic value of a free surface at height
 // `surface_y` (up is +y): rho = rho0 (1 + rho0 g (surface_y - y) / B)^(1/gamma), B = c0^2 rho0 /
 // gamma, and rho0 above the surface (boundary particles never below rho0).

@@ -39,11 +39,26 @@ struct SphHostState {
   std::vector<double> pos, vel;  // 3 per particle
   std::vector<double> rho;
   std::vector<int> code;         // ParticleCode
+  // Body particles (code kBoundBody) only: the body they belong to and their offset from its
+  // centre (3 per particle, fixed in the lab orientation: bodies are spheres, whose shell looks
+  // the same however they turn). Empty when the case has no bodies.
+  std::vector<int> body;
+  std::vector<double> offset;
   std::size_t size() const { return rho.size(); }
 };
 
 struct SphMotion {
   double theta = 0, omega = 0;  // rotation of moving boundaries about z: angle from the start, rate
+};
+
+// Kinematics of a rigid body carrying body particles.
+struct SphBody {
+  std::array<double, 3> pos{}, vel{}, omega{};
+};
+
+// What the fluid does to a body (from its body particles), about the body centre.
+struct SphBodyLoad {
+  std::array<double, 3> force{}, torque{};
 };
 
 struct SphSums {
@@ -69,6 +84,12 @@ class SphEngine {
   // One step of dt; moving boundaries at `half` (symplectic predictor) and `end`.
   virtual void step(double dt, const SphMotion& half, const SphMotion& end) = 0;
   virtual SphSums sums() const = 0;
+  // Places every body's particles at its centre + offset, with velocity v + omega x offset.
+  // Call before step() with the bodies at the end of the step (and once before initialize()).
+  virtual void setBodyKinematics(const std::vector<SphBody>& bodies) = 0;
+  // Fluid force and torque on each body from the last force evaluation (pressure and viscosity
+  // of the fluid neighbours of its particles).
+  virtual std::vector<SphBodyLoad> bodyLoads() const = 0;
   // Shepard-interpolated fluid pressure at a point (probe), Pa; NaN when no fluid within 2h.
   virtual double probePressure(const std::array<double, 3>& x) const = 0;
   virtual std::map<std::string, std::size_t> memoryBytes() const = 0;

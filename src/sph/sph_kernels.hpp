@@ -4,8 +4,10 @@
 // density diffusion, viscosity, shifting) are template parameters, so an option that is off
 // costs nothing per pair.
 //
-// Particles: fluid, fixed boundary (DBC), moving boundary (DBC with imposed motion), and
-// excluded (left the domain or the density limits; counted, never searched, never moved).
+// Particles: fluid, fixed boundary (DBC), moving boundary (DBC with imposed motion), body
+// (DBC particles carried by a rigid body - a DEM ball's shell - whose fluid force is summed to
+// drive the body), and excluded (left the domain or the density limits; counted, never
+// searched, never moved).
 #include <cmath>
 
 #include "millsim/core/hd.hpp"
@@ -22,8 +24,9 @@ enum ParticleCode : int {
   kFluid = 0,
   kBoundFixed = 1,
   kBoundMoving = 2,
-  kExcludedDensity = 3,  // first excluded code: everything >= this is out of the run
-  kExcludedDomain = 4,
+  kBoundBody = 3,
+  kExcludedDensity = 4,  // first excluded code: everything >= this is out of the run
+  kExcludedDomain = 5,
 };
 
 MILLSIM_HD inline bool isExcluded(int code) { return code >= kExcludedDensity; }
@@ -35,7 +38,7 @@ struct SphView {
   T* rho;
   int* code;
   T* press;
-  Vec3<T>* ace;        // dv/dt without gravity
+  Vec3<T>* ace;        // dv/dt without gravity (fluid); fluid force / mass (body particles)
   T* drho;             // drho/dt
   T* visc_dt;          // max_b |h v_ab . r_ab| / (r^2 + eta^2), for the time step (eq. 40)
   Vec3<T>* shift_grad; // grad C = sum_b V_b grad W (shifting)
@@ -54,7 +57,9 @@ struct EosPressure {
 
 // Forces, continuity and the shifting sums of particle a from every neighbour b within 2h.
 // Fluid a: continuity (+ DDT with fluid b), pressure, viscosity, shifting sums. Boundary a
-// (DBC, eq. 42): continuity from fluid neighbours only.
+// (DBC, eq. 42): continuity from fluid neighbours only; a body particle also sums the pressure
+// and viscous force of its fluid neighbours (the same pair terms with the roles swapped, so the
+// pair forces are equal and opposite and momentum passes exactly between fluid and body).
 template <class T, class Kernel, class Ddt, class Visc, bool kShift>
 struct SphInteraction {
   neighbors::CellListView<T> cells;        // every active particle: searched by fluid particles
@@ -72,6 +77,7 @@ struct SphInteraction {
     const int code_a = p.code[a];
     if (isExcluded(code_a)) return;
     const bool a_fluid = code_a == kFluid;
+    const bool a_forces = a_fluid || code_a == kBoundBody;
     const Vec3<T> xa = p.pos[a], va = p.vel[a];
     const T rho_a = p.rho[a], press_a = p.press[a];
     Sym3<T> tau_a = zeroSym3<T>();
@@ -95,11 +101,12 @@ struct SphInteraction {
       drho += rho_a * vol_b * core::dot(v_ab, grad);
       const T vr = kernel.h * core::dot(v_ab, r_ab) / (r2 + eta2);
       visc_max = visc_max > (vr < T(0) ? -vr : vr) ? visc_max : (vr < T(0) ? -vr : vr);
-      if (!a_fluid) return;
+      if (!a_forces) return;
       acc -= (mass * (press_a + p.press[b]) / (rho_a * rho_b)) * grad;
       Sym3<T> tau_b = zeroSym3<T>();
       if constexpr (Visc::kNeedsStrain) tau_b = p.tau[b];
-      acc += visc(r_ab, v_ab, r2, fac, rho_a, rho_b, mass, !b_fluid, tau_a, tau_b);
+      acc += visc(r_ab, v_ab, r2, fac, rho_a, rho_b, mass, !a_fluid || !b_fluid, tau_a, tau_b);
+      if (!a_fluid) return;
       if constexpr (Ddt::kActive) {
         if (b_fluid) drho += ddt(rho_a, rho_b, core::dot(up, r_ab), r2, fac, vol_b);
       }
@@ -161,6 +168,25 @@ struct BoundaryMotion {
   }
 };
 
+// Body particles at their body's centre + offset, moving with it: v + omega x offset.
+template <class T>
+struct PlaceBodyParticles {
+  const int* body;
+  const Vec3<T>* offset;
+  const Vec3<T>* body_pos;
+  const Vec3<T>* body_vel;
+  const Vec3<T>* body_omega;
+  const int* code;
+  Vec3<T>* pos;
+  Vec3<T>* vel;
+  MILLSIM_HD void operator()(int i) const {
+    if (code[i] != kBoundBody) return;
+    const int k = body[i];
+    pos[i] = body_pos[k] + offset[i];
+    vel[i] = body_vel[k] + core::cross(body_omega[k], offset[i]);
+  }
+};
+
 // Shared by the integrators: limits that exclude a fluid particle, and the shifting displacement.
 template <class T>
 struct FluidChecks {
@@ -205,6 +231,7 @@ struct VerletUpdate {
     rho_m1[a] = rho;
     if (code != kFluid) {
       // DBC: density by continuity, never below rho0 (fluid must not be sucked into a wall).
+      // Body particles are placed by the body (SphSolver::setBodyKinematics).
       p.rho[a] = rho_new > rho0 ? rho_new : rho0;
       if (code == kBoundMoving) motion.apply(pos0[a], p.pos[a], p.vel[a]);
       return;

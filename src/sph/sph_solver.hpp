@@ -45,7 +45,7 @@ struct FluidSum {
       case 2: return c == kFluid ? 1.0 : 0.0;
       case 3: return c == kExcludedDensity ? 1.0 : 0.0;
       case 4: return c == kExcludedDomain ? 1.0 : 0.0;
-      default: return c == kBoundFixed || c == kBoundMoving ? 1.0 : 0.0;
+      default: return c == kBoundFixed || c == kBoundMoving || c == kBoundBody ? 1.0 : 0.0;
     }
   }
 };
@@ -162,6 +162,16 @@ class SphSolver final : public SphEngine {
       id[i] = static_cast<int>(i);
     }
     m_has_moving = std::find(s.code.begin(), s.code.end(), int(kBoundMoving)) != s.code.end();
+    m_bodies = 0;
+    if (s.body.size() == n) {
+      std::vector<Vec3<T>> offset(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        offset[i] = {T(s.offset[3 * i]), T(s.offset[3 * i + 1]), Dim == 2 ? T(0) : T(s.offset[3 * i + 2])};
+        m_bodies = std::max(m_bodies, s.body[i] + 1);
+      }
+      m_body.copyFromHost(s.body);
+      m_offset.copyFromHost(offset);
+    }
     m_pos.copyFromHost(pos);
     m_vel.copyFromHost(vel);
     m_rho.copyFromHost(rho);
@@ -300,6 +310,45 @@ class SphSolver final : public SphEngine {
     return s;
   }
 
+  void setBodyKinematics(const std::vector<SphBody>& bodies) override {
+    if (bodies.empty()) return;
+    if (static_cast<int>(bodies.size()) != m_bodies)
+      throw std::invalid_argument("SphSolver::setBodyKinematics: " + std::to_string(bodies.size()) +
+                                  " bodies given, the particles belong to " + std::to_string(m_bodies));
+    std::vector<Vec3<T>> x(bodies.size()), v(bodies.size()), w(bodies.size());
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      x[k] = toVec(bodies[k].pos);
+      v[k] = toVec(bodies[k].vel);
+      w[k] = toVec(bodies[k].omega);
+    }
+    m_body_pos.copyFromHost(x);
+    m_body_vel.copyFromHost(v);
+    m_body_omega.copyFromHost(w);
+    backend::parallelFor(Space{}, m_n,
+                         PlaceBodyParticles<T>{m_body.data(), m_offset.data(), m_body_pos.data(), m_body_vel.data(),
+                                               m_body_omega.data(), m_code.data(), m_pos.data(), m_vel.data()});
+  }
+
+  std::vector<SphBodyLoad> bodyLoads() const override {
+    std::vector<SphBodyLoad> loads(static_cast<std::size_t>(m_bodies));
+    if (m_bodies == 0) return loads;
+    std::vector<Vec3<T>> ace, offset;
+    std::vector<int> body, code;
+    m_ace.copyToHost(ace);
+    m_offset.copyToHost(offset);
+    m_body.copyToHost(body);
+    m_code.copyToHost(code);
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      if (code[i] != kBoundBody || body[i] < 0) continue;
+      const Vec3<T> f = m_mass * ace[i];
+      const Vec3<T> tq = core::cross(offset[i], f);
+      SphBodyLoad& l = loads[static_cast<std::size_t>(body[i])];
+      l.force[0] += double(f.x), l.force[1] += double(f.y), l.force[2] += double(f.z);
+      l.torque[0] += double(tq.x), l.torque[1] += double(tq.y), l.torque[2] += double(tq.z);
+    }
+    return loads;
+  }
+
   double probePressure(const std::array<double, 3>& x_in) const override {
     const Vec3<T> x{T(x_in[0]), T(x_in[1]), Dim == 2 ? T(0) : T(x_in[2])};
     double num = 0, den = 0;
@@ -318,6 +367,8 @@ class SphSolver final : public SphEngine {
   std::map<std::string, std::size_t> memoryBytes() const override {
     return {{"sph.particles", m_pos.bytes() + m_vel.bytes() + m_rho.bytes() + m_code.bytes() + m_id.bytes() +
                                   m_pos0.bytes()},
+            {"sph.bodies", m_body.bytes() + m_offset.bytes() + m_body_pos.bytes() + m_body_vel.bytes() +
+                               m_body_omega.bytes()},
             {"sph.integrator", m_vel_m1.bytes() + m_rho_m1.bytes() + m_pos_pre.bytes() + m_vel_pre.bytes() +
                                    m_rho_pre.bytes()},
             {"sph.forces", m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes()},
@@ -418,6 +469,8 @@ class SphSolver final : public SphEngine {
     gather(m_tau, m_scratch_sym, order);
     gather(m_id, m_scratch_int, order);
     gather(m_code, m_scratch_int, order);
+    gather(m_body, m_scratch_int, order);
+    gather(m_offset, m_scratch_vec, order);
     m_cells.renumberedInOrder();
     m_fluid_cells.build(m_pos.data(), m_n, m_code.data(), kBoundFixed);
     backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
@@ -451,6 +504,10 @@ class SphSolver final : public SphEngine {
   backend::Array<Space, Vec3<T>> m_pos, m_vel, m_pos0, m_vel_m1, m_pos_pre, m_vel_pre, m_ace, m_shift_grad;
   backend::Array<Space, T> m_rho, m_rho_m1, m_rho_pre, m_press, m_drho, m_visc, m_shift_div;
   backend::Array<Space, int> m_code, m_id;
+  // Bodies (DEM balls carrying a shell of body particles): per particle, per body.
+  int m_bodies = 0;
+  backend::Array<Space, int> m_body;
+  backend::Array<Space, Vec3<T>> m_offset, m_body_pos, m_body_vel, m_body_omega;
   backend::Array<Space, Sym3<T>> m_strain, m_tau;
   backend::Array<Space, Vec3<T>> m_scratch_vec;
   backend::Array<Space, T> m_scratch_real;
