@@ -44,8 +44,8 @@ int runCommand(const std::string& case_path, const std::vector<std::string>& set
   const millsim::scene::Scene scene = loadScene(case_path, sets);
   millsim::sim::Simulation sim(scene, opt);
   std::fprintf(stderr, "millsim: %s: %zu %s, dt = %.3g s%s, backend %s, out %s\n", scene.name.c_str(),
-               sim.particleCount(), scene.effect_sph ? "SPH particles" : "balls", sim.timeStep(),
-               scene.effect_sph && scene.time.dt_mode == "auto" ? " (first, CFL)" : "", opt.backend.c_str(),
+               sim.particleCount(), scene.effect_sph && !scene.effect_dem ? "SPH particles" : "balls", sim.timeStep(),
+               scene.effect_sph && !scene.effect_dem && scene.time.dt_mode == "auto" ? " (first, CFL)" : "", opt.backend.c_str(),
                opt.out_dir.c_str());
   const auto& s = sim.run();
   nlohmann::ordered_json j;
@@ -398,7 +398,7 @@ int main(int argc, char** argv) {
       check.write_outputs = false;
       millsim::sim::Simulation sim(scene, check);
       std::cout << case_path << ": ok (" << scene.name << ", " << sim.particleCount()
-                << (scene.effect_sph ? " SPH particles" : " balls") << ", dt = " << sim.timeStep() << " s)" << std::endl;
+                << (scene.effect_sph && !scene.effect_dem ? " SPH particles" : " balls") << ", dt = " << sim.timeStep() << " s)" << std::endl;
       return 0;
     }
     if (info->parsed()) return infoCommand();

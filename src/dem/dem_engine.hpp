@@ -45,6 +45,7 @@ struct DemSums {
   double potential = 0;    // -sum m g . x, J
   double dissipated = 0;   // accumulated, J
   double work_in = 0;      // accumulated work of the walls on the balls, J
+  double work_external = 0;  // accumulated work of the external (fluid) forces on the balls, J
   double elastic = 0;      // normal elastic energy stored in contacts now, J
   double drum_torque = 0;  // moment of the charge on the drum about +z now, N m
   double max_speed = 0;    // m/s
@@ -66,6 +67,10 @@ class DemEngine {
   virtual DemSums sums() const = 0;
   virtual std::map<std::string, std::size_t> memoryBytes() const = 0;
   virtual std::int64_t neighbourRebuilds() const = 0;
+  // Forces and torques from outside the DEM (the fluid on each ball in a wet mill), 3 per ball in
+  // host order, held until the next call and added every step. Their work is booked in
+  // DemSums::work_external. Empty vectors switch them off.
+  virtual void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) = 0;
 };
 
 std::unique_ptr<DemEngine> makeDemEngineOmp(const DemSetup& setup, bool single_precision);

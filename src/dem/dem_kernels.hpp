@@ -127,6 +127,11 @@ struct ContactForces {
   WallHistory<T> wall_hist;
   double* work_in;  // accumulated work done by the walls on the particle, J
   T* elastic_out;   // elastic energy of the contacts i owns (pairs it evaluates, walls), J
+  // External force and torque per host number (nullptr: none) and the work they do, J.
+  const Vec3<T>* ext_force;
+  const Vec3<T>* ext_torque;
+  const int* id;
+  double* work_external;
   T* drum_torque;   // torque of this particle's wall contacts on the drum about +z, N m
   DrumWalls<T> walls;
   Law law;
@@ -204,6 +209,13 @@ struct ContactForces {
     });
     for (int q = n_new; q < n_old; ++q) wall_hist.key[i * kWallSlots + q] = kNoPartner;
 
+    if (ext_force) {
+      const Vec3<T> fe = ext_force[id[i]], te = ext_torque[id[i]];
+      f += fe;
+      tq += te;
+      // Power of the external load at this instant (v, omega at the force evaluation).
+      work_external[i] += double(core::dot(fe, vi) + core::dot(te, wi)) * double(dt);
+    }
     sink.addOwn(i, f, tq, diss_rate * dt);
     elastic_out[i] = elastic;
     work_in[i] += double(power_in) * double(dt);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "dem/dem_engine.hpp"
@@ -223,6 +224,8 @@ class DemSolver final : public DemEngine {
     s.potential = backend::reduceSum<double>(Space{}, m_n, PotentialEnergy<T>{p, g});
     s.dissipated = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_dissipated.data()});
     s.work_in = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_work_in.data()});
+    if (m_work_external.size() == static_cast<std::size_t>(m_n))
+      s.work_external = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_work_external.data()});
     s.elastic = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_elastic.data()});
     s.drum_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_drum_torque.data()});
     s.max_speed = backend::reduceMax<double>(Space{}, m_n, 0.0, Speed<T>{m_vel.data()});
@@ -240,7 +243,9 @@ class DemSolver final : public DemEngine {
                                   m_id.bytes()},
             {"dem.contact_history", m_pair_xi.bytes() + m_wall_key.bytes() + m_wall_xi.bytes() + m_overflow.bytes() +
                                         m_old_xi.bytes()},
-            {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes()},
+            {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes() +
+                                          m_work_external.bytes()},
+            {"dem.external_loads", m_ext_force.bytes() + m_ext_torque.bytes()},
             {"dem.partner_scatter", m_scatter.bytes()},
             {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_int_w.bytes() + m_scratch_real.bytes() +
                                         m_scratch_double.bytes() + m_scratch_vec.bytes() + m_scratch_vec_w.bytes() +
@@ -250,6 +255,24 @@ class DemSolver final : public DemEngine {
   }
 
   std::int64_t neighbourRebuilds() const override { return m_rebuilds; }
+
+  void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) override {
+    if (force.empty()) {
+      m_has_external = false;
+      return;
+    }
+    if (force.size() != 3 * static_cast<std::size_t>(m_n) || torque.size() != force.size())
+      throw std::invalid_argument("DemSolver::setExternalForces: expected 3 values per ball");
+    std::vector<Vec3<T>> f(m_n), t(m_n);
+    for (int i = 0; i < m_n; ++i) {
+      f[i] = {T(force[3 * i]), T(force[3 * i + 1]), T(force[3 * i + 2])};
+      t[i] = {T(torque[3 * i]), T(torque[3 * i + 1]), T(torque[3 * i + 2])};
+    }
+    m_ext_force.copyFromHost(f);
+    m_ext_torque.copyFromHost(t);
+    if (m_work_external.size() != static_cast<std::size_t>(m_n)) m_work_external.resize(m_n, 0.0);
+    m_has_external = true;
+  }
 
  private:
   static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
@@ -317,6 +340,7 @@ class DemSolver final : public DemEngine {
     gather(m_inv_inertia, m_scratch_real, order, 1);
     gather(m_dissipated, m_scratch_double, order, 1);
     gather(m_work_in, m_scratch_double, order, 1);
+    if (m_work_external.size() == static_cast<std::size_t>(m_n)) gather(m_work_external, m_scratch_double, order, 1);
     gather(m_id, m_scratch_int, order, 1);
     gather(m_overflow, m_scratch_int, order, 1);
     gather(m_wall_key, m_scratch_int_w, order, kWallSlots);
@@ -402,6 +426,10 @@ class DemSolver final : public DemEngine {
                                                    wall_hist,
                                                    m_work_in.data(),
                                                    m_elastic.data(),
+                                                   m_has_external ? m_ext_force.data() : nullptr,
+                                                   m_ext_torque.data(),
+                                                   m_id.data(),
+                                                   m_work_external.data(),
                                                    m_drum_torque.data(),
                                                    drum,
                                                    law,
@@ -431,7 +459,10 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, int> m_id, m_overflow;
   // Half neighbour list, compact: partners of i at m_nbr_list[m_nbr_start[i] .. m_nbr_start[i + 1]).
   backend::Array<Space, int> m_nbr_count, m_nbr_start, m_nbr_list;
-  backend::Array<Space, double> m_dissipated, m_work_in;
+  backend::Array<Space, double> m_dissipated, m_work_in, m_work_external;
+  // Loads from outside (the fluid), by host number; only in coupled runs.
+  bool m_has_external = false;
+  backend::Array<Space, Vec3<T>> m_ext_force, m_ext_torque;
   // Springs: one per half-list slot for pairs, kWallSlots per particle for walls.
   backend::Array<Space, Vec3<T>> m_pair_xi, m_wall_xi;
   backend::Array<Space, int> m_wall_key;

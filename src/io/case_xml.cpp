@@ -277,7 +277,10 @@ Schema buildSchema() {
        "Weakly compressible SPH fluid (DualSPHysics formulation). Its presence enables the SPH "
        "effect."},
       {"fluid", false, [](Scene& sc) -> bool& { return sc.has_fluid; },
-       "Box filled with fluid particles at spacing sph.dp. Required with <sph>.", "sph"},
+       "Box filled with fluid particles at spacing sph.dp. Required with <sph> in a fluid-only case."},
+      {"slurry", false, [](Scene& sc) -> bool& { return sc.has_slurry; },
+       "Wet mill (<dem> and <sph>): slurry poured into the voids of the settled charge when the drum starts "
+       "(drum.start_time). Required with both."},
       {"tank", false, [](Scene& sc) -> bool& { return sc.has_tank; },
        "Rectangular tank of boundary particles (DBC) around [min, max], open at the top unless "
        "closed; may rotate about z through its centre."},
@@ -534,6 +537,9 @@ Schema buildSchema() {
       number("tank", "spin_up", "s", atLeast(0), [](Scene& sc) -> double& { return sc.tank.spin_up; },
              "Linear ramp to full rotation speed."),
 
+      number("slurry", "filling", "", range('(', 0, 0.9, ']'), [](Scene& sc) -> double& { return sc.slurry.filling; },
+             "Slurry volume / drum volume (paper: 0.2: the charge fills half the mill, the balls 30%)."),
+
       text("probes", "points", [](Scene& sc) -> std::string& { return sc.probes.points; },
            "Named points 'name:x,y[,z];...' (m) whose Shepard-interpolated fluid pressure goes to series.csv "
            "as p_<name>_Pa."),
@@ -772,6 +778,10 @@ class CaseReader {
       if (!e.required_with.empty() && m_read.count(e.required_with) && !m_read.count(e.path))
         failElement(*m_read.at(e.required_with), "<" + schema().element(e.required_with)->tag() + "> needs a <" +
                                                      e.tag() + "> element in the case");
+    if (m_read.count("sph") && !m_read.count("dem") && !m_read.count("fluid"))
+      failElement(*m_read.at("sph"), "<sph> needs a <fluid> element in the case");
+    if (m_read.count("sph") && m_read.count("dem") && !m_read.count("slurry"))
+      failElement(*m_read.at("sph"), "<sph> with <dem> (a wet mill) needs a <slurry> element in the case");
     if (!m_read.count("dem") && !m_read.count("sph"))
       failElement(*m_doc.RootElement(), "<millsim>: nothing to simulate: the case has neither <dem> nor <sph>");
     runCrossChecks(scene);

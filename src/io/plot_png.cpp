@@ -109,7 +109,8 @@ void writeLinePlot(const std::string& path, const PlotAxes& ax, const std::vecto
 void writeParticleSnapshot(const std::string& path, const std::vector<double>& x, const std::vector<double>& y,
                            const std::vector<double>& value, const std::vector<bool>& gray, double radius_m,
                            std::array<double, 4> w, double px_per_m, double v_min, double v_max,
-                           const std::string& title, const std::string& value_label) {
+                           const std::string& title, const std::string& value_label,
+                           const std::vector<PlotCurve>& curves) {
   const int bar = 70, head = 36;
   const int W = std::max(200, static_cast<int>(std::lround((w[1] - w[0]) * px_per_m)));
   const int H = std::max(100, static_cast<int>(std::lround((w[3] - w[2]) * px_per_m)));
@@ -121,6 +122,14 @@ void writeParticleSnapshot(const std::string& path, const std::vector<double>& x
     const cv::Scalar c = gray[i] ? cv::Scalar(150, 150, 150) : diverging((value[i] - v_min) / (v_max - v_min));
     cv::circle(img, p, r, c, cv::FILLED, cv::LINE_AA);
   }
+  for (const PlotCurve& c : curves)
+    for (std::size_t i = 1; i < c.x.size(); ++i) {
+      auto at = [&](std::size_t k) {
+        return cv::Point(static_cast<int>(std::lround((c.x[k] - w[0]) * px_per_m)),
+                         head + static_cast<int>(std::lround((w[3] - c.y[k]) * px_per_m)));
+      };
+      cv::line(img, at(i - 1), at(i), bgr(c.rgb), c.thickness, cv::LINE_AA);
+    }
   const cv::Scalar black(0, 0, 0);
   cv::putText(img, title, cv::Point(8, 24), cv::FONT_HERSHEY_SIMPLEX, 0.6, black, 1, cv::LINE_AA);
   const int bx = W + 15, by0 = head + 20, by1 = head + H - 20;

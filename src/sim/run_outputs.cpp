@@ -86,6 +86,14 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
   j["energy"] = {{"kinetic_J", s.energy_kinetic},     {"potential_J", s.energy_potential},
                  {"dissipated_J", s.energy_dissipated}, {"work_in_J", s.energy_work_in},
                  {"elastic_J", s.energy_elastic},     {"budget_residual_J", s.energy_residual}};
+  if (s.sph_particles > 0) {
+    j["particles"]["sph"] = s.sph_particles;
+    j["wet_mill"] = {{"sph_steps", s.sph_steps},
+                     {"sph_excluded", s.sph_excluded},
+                     {"slurry_frames", s.slurry_frames},
+                     {"slurry_curve_mm", s.slurry_valid ? nlohmann::ordered_json(s.slurry_coef) : nlohmann::ordered_json()}};
+    if (!s.slurry_error.empty()) j["wet_mill"]["slurry_error"] = s.slurry_error;
+  }
   writeJsonFile(path, j);
 }
 

@@ -22,6 +22,7 @@
 #include "sim/drum_motion.hpp"
 #include "sim/run_outputs.hpp"
 #include "sim/sph_run.hpp"
+#include "sim/wet_mill.hpp"
 
 namespace millsim::sim {
 
@@ -40,6 +41,8 @@ struct Simulation::Impl {
   long long step = 0;
   // Angle of repose: front-view frames summed into a heat map.
   std::unique_ptr<vision::FrontViewAngle> angle;
+  // Wet mill: the slurry, poured when the drum starts (scene.effect_sph with <dem>).
+  std::unique_ptr<WetMill> wet;
   double next_frame_t = 0;
   // Steady-window bookkeeping for the mean shaft power.
   double steady_t0 = -1, steady_work0 = 0;
@@ -158,7 +161,7 @@ void Simulation::Impl::fillEnergy(const dem::DemSums& now) {
   summary.energy_dissipated = now.dissipated;
   summary.energy_work_in = now.work_in;
   summary.energy_elastic = now.elastic;
-  summary.energy_residual = (now.work_in - sums0.work_in) -
+  summary.energy_residual = (now.work_in - sums0.work_in) + (now.work_external - sums0.work_external) -
                             ((now.kinetic - sums0.kinetic) + (now.potential - sums0.potential) +
                              (now.elastic - sums0.elastic) + (now.dissipated - sums0.dissipated));
 }
@@ -250,6 +253,7 @@ void Simulation::Impl::run() {
       }
       if (angle && t >= next_frame_t - 0.5 * dt && angle->frames() < scene.angle.frames) {
         captureFrame();
+        if (wet) wet->captureSurface();
         next_frame_t += frame_dt;
       }
       if (options.write_outputs && t >= next_cp - 0.5 * dt) {
@@ -257,10 +261,19 @@ void Simulation::Impl::run() {
         next_cp += cp_dt;
       }
       if (t >= t_end - 0.5 * dt) break;
-      phi += motion->omega(t + dt) * dt;
-      engine->step(motion->at(t + dt, phi), dt);
-      t += dt;
-      ++step;
+      if (scene.effect_sph && !wet && t >= scene.drum.start_time - 0.5 * dt) {
+        dem::DemHostState balls;
+        engine->getState(balls);
+        wet = std::make_unique<WetMill>(scene, options, balls, phi, t);
+      }
+      if (wet) {
+        wet->advance(*engine, *motion, t, phi, step, dt);
+      } else {
+        phi += motion->omega(t + dt) * dt;
+        engine->step(motion->at(t + dt, phi), dt);
+        t += dt;
+        ++step;
+      }
       progress.update(t, step);
     }
   } catch (const core::SimulationError& e) {
@@ -287,6 +300,7 @@ void Simulation::Impl::run() {
     summary.torque_Nm = summary.omega_rad_s > 0 ? summary.power_W / summary.omega_rad_s : 0;
   }
   finishAngle(out);
+  if (wet) wet->finish(out, summary, options.write_outputs);
   if (options.write_outputs) {
     writeCheckpoint(out / "checkpoint.h5");
   }
@@ -362,10 +376,9 @@ void Simulation::Impl::restoreCheckpoint() {
 
 Simulation::Simulation(const scene::Scene& scene, const RunOptions& options) {
   // Only the engines the effects call for exist: a fluid-only case has no DEM arrays at all.
-  if (scene.effect_sph && scene.effect_dem)
-    throw core::InputError(scene.source, 0,
-                           "<dem> and <sph> together (the wet mill, SPH-DEM coupling) are not available yet");
-  if (scene.effect_sph)
+  if (scene.effect_sph && scene.effect_dem && !options.restart.empty())
+    throw core::InputError("--restart: a wet mill (SPH-DEM) cannot restart from a checkpoint yet");
+  if (scene.effect_sph && !scene.effect_dem)
     m_sph = std::make_unique<SphRun>(scene, options);
   else
     m_impl = std::make_unique<Impl>(scene, options);
@@ -385,11 +398,20 @@ std::vector<std::string> Simulation::stages() const {
   if (m_sph) return m_sph->stages();
   std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts_and_walls", "dem_kick"};
   if (m_impl->scene.angle.enabled) s.push_back("front_view_frames");
+  if (m_impl->scene.effect_sph) {
+    for (const char* stage : {"slurry_pour", "sph_neighbour_build", "sph_pressure", "sph_interaction", "sph_verlet",
+                              "sph_dem_coupling", "slurry_surface_frames"})
+      s.push_back(stage);
+  }
   return s;
 }
 
 std::map<std::string, std::size_t> Simulation::memoryReport() const {
-  return m_sph ? m_sph->memoryReport() : m_impl->engine->memoryBytes();
+  if (m_sph) return m_sph->memoryReport();
+  auto memory = m_impl->engine->memoryBytes();
+  if (m_impl->wet)
+    for (const auto& [group, bytes] : m_impl->wet->memoryBytes()) memory["wet_mill." + group] += bytes;
+  return memory;
 }
 const RunSummary& Simulation::summary() const { return m_sph ? m_sph->summary() : m_impl->summary; }
 double Simulation::timeStep() const { return m_sph ? m_sph->timeStep() : m_impl->dt; }

@@ -54,6 +54,32 @@ void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layer
       }
 }
 
+bool insideLifter(const DrumGeometry& d, double x, double y, double clearance) {
+  const double two_pi = 2 * std::acos(-1.0);
+  for (int k = 0; k < d.lifters; ++k) {
+    const double a = d.first_angle + k * two_pi / d.lifters;
+    const double u = x * std::cos(a) + y * std::sin(a), v = -x * std::sin(a) + y * std::cos(a);
+    if (u >= d.radius - d.lifter_height - clearance && std::abs(v) <= 0.5 * d.lifter_width + clearance) return true;
+  }
+  return false;
+}
+
+void addDrumWalls(SphHostState& s, const DrumGeometry& d, double dp, int layers, double rho0) {
+  const double outer = d.radius + layers * dp;
+  const int n = static_cast<int>(std::ceil(outer / dp));
+  const int nz0 = -layers, nz1 = static_cast<int>(std::floor(d.length / dp + 1e-9)) + layers;
+  for (int k = nz0; k < nz1; ++k)
+    for (int j = -n; j < n; ++j)
+      for (int i = -n; i < n; ++i) {
+        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        const double r = std::hypot(x, y);
+        if (r >= outer) continue;
+        const bool plate = z < 0 || z > d.length;
+        const bool shell = r >= d.radius;
+        if (plate || shell || insideLifter(d, x, y, 0.0)) add(s, x, y, z, kBoundMoving, rho0);
+      }
+}
+
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
                     double rho0) {
   // Body data for the particles already there (walls, fluid): none.

@@ -23,6 +23,21 @@ void fillFluidBox(SphHostState& s, const Box& box, double dp, int dim, double rh
 void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layers, bool closed_top, int code,
                   double rho0);
 
+// Drum walls as boundary particles (moving DBC, rotating about z): the cylinder of inner
+// radius R (axis z, 0 <= z <= L) with `layers` rows outside it, the two end plates (layers
+// below z = 0 and above z = L), and N box lifters of radial height h and tangential width w
+// whose centre lines point at angle first_angle + k 2 pi / N. Points of a Cartesian lattice of
+// spacing dp (centres at (i + 1/2) dp), the same lattice the fluid fill uses.
+struct DrumGeometry {
+  double radius = 0, length = 0;
+  int lifters = 0;
+  double lifter_height = 0, lifter_width = 0, first_angle = 0;
+};
+void addDrumWalls(SphHostState& s, const DrumGeometry& drum, double dp, int layers, double rho0);
+
+// True when x lies inside a lifter of the drum, grown by `clearance`.
+bool insideLifter(const DrumGeometry& drum, double x, double y, double clearance);
+
 // Appends the shell of a spherical body (a disc in 2D) of radius r centred at c: the points of
 // a lattice of spacing dp centred on c with r - layers dp <= |x - c| < r, as body particles
 // (code kBoundBody) of body `body`, with their offsets from c.

@@ -94,8 +94,12 @@ TEST(CaseXml, EveryShippedCaseParses) {
     EXPECT_EQ(s.source, entry.path().string());
     // A balls case has its drum, a fluid case its fluid.
     EXPECT_TRUE(s.effect_dem || s.effect_sph);
-    if (s.effect_dem) EXPECT_TRUE(s.has_drum);
-    if (s.effect_sph) EXPECT_TRUE(s.has_fluid);
+    if (s.effect_dem) {
+      EXPECT_TRUE(s.has_drum);
+    }
+    if (s.effect_sph) {
+      EXPECT_TRUE(s.effect_dem ? s.has_slurry : s.has_fluid);
+    }
   }
   EXPECT_GE(count, 7);
 }
@@ -366,7 +370,8 @@ TEST(CaseXmlErrors, UnknownElement) {
   const Failure f = textFailure(small("<dem/>", "<drums/>"));
   EXPECT_EQ(f.what,
             "t.xml:3: unknown element <drums> under <millsim> (expected one of: time, gravity, "
-            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, tank, probes); did you mean "
+            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, slurry, tank, probes); did you "
+            "mean "
             "'drum'?");
   const Failure misplaced = textFailure(small("<dem/>", "<lifters/>"));
   EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos)
@@ -536,6 +541,7 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "fluid.x_min", "fluid.y_min", "fluid.z_min", "fluid.x_max", "fluid.y_max", "fluid.z_max",
       "tank.x_min", "tank.y_min", "tank.z_min", "tank.x_max", "tank.y_max", "tank.z_max", "tank.closed",
       "tank.rotation_rpm", "tank.spin_up",
+      "slurry.filling",
       "probes.points"};
   // clang-format on
   EXPECT_EQ(paths, expected);

@@ -28,9 +28,16 @@ void writeLinePlot(const std::string& path, const PlotAxes& axes, const std::vec
 // Particles at (x, y) (m) drawn as discs of radius_m, coloured by value on a blue-red scale
 // over [v_min, v_max]; particles with gray[i] true are drawn gray (walls). Window [x0, x1] x
 // [y0, y1] at px_per_m, with a title and a colour bar.
+// `curves` (optional): polylines in metres drawn on top, e.g. a fitted surface and its band.
+struct PlotCurve {
+  std::vector<double> x, y;
+  std::array<int, 3> rgb{0, 0, 0};
+  int thickness = 2;
+};
 void writeParticleSnapshot(const std::string& path, const std::vector<double>& x, const std::vector<double>& y,
                            const std::vector<double>& value, const std::vector<bool>& gray, double radius_m,
                            std::array<double, 4> window, double px_per_m, double v_min, double v_max,
-                           const std::string& title, const std::string& value_label);
+                           const std::string& title, const std::string& value_label,
+                           const std::vector<PlotCurve>& curves = {});
 
 }  // namespace millsim::io

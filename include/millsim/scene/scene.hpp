@@ -125,6 +125,11 @@ struct FluidBoxParams {
   double x_max = 1, y_max = 1, z_max = 1;
 };
 
+// Wet mill: slurry poured into the voids of the settled charge when the drum starts.
+struct SlurryParams {
+  double filling = 0.2;  // slurry volume / drum volume (paper: charge 50% of the mill, balls 30%)
+};
+
 struct ProbeParams {
   std::string points;  // "name:x,y[,z];name:x,y[,z]" (m): Shepard-interpolated pressure
 };
@@ -139,7 +144,7 @@ struct Scene {
   // Effects the scene calls for; only their stages and arrays exist in a run.
   bool effect_dem = true;
   bool effect_sph = false;
-  bool has_drum = true, has_tank = false, has_fluid = false;
+  bool has_drum = true, has_tank = false, has_fluid = false, has_slurry = false;
   TimeParams time;
   OutputParams output;
   DemParams dem;
@@ -151,6 +156,7 @@ struct Scene {
   TankParams tank;
   FluidBoxParams fluid;
   ProbeParams probes;
+  SlurryParams slurry;
 };
 
 }  // namespace millsim::scene

@@ -2,6 +2,7 @@
 // Simulation turns a Scene into the stages it needs and runs them: only the effects the scene
 // calls for get arrays and stages (a balls-only drum has no SPH anything), which memoryReport()
 // and stages() make visible. Outputs go to RunOptions::out_dir (see docs/outputs.md).
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -38,6 +39,14 @@ struct RunSummary {
   double energy_kinetic = 0, energy_potential = 0, energy_dissipated = 0, energy_work_in = 0, energy_elastic = 0;
   double energy_residual = 0;  // work_in - (dKE + dPE + elastic + dissipated)
   double charge_mass_kg = 0;
+  // Wet mill (SPH-DEM): slurry particles, exclusions, SPH steps, and the slurry curve
+  // y = c0 + c1 x + c2 x^2 (mm, front view, origin on the drum axis).
+  std::size_t sph_particles = 0;
+  long long sph_excluded = 0, sph_steps = 0;
+  int slurry_frames = 0;
+  bool slurry_valid = false;
+  std::array<double, 3> slurry_coef{};
+  std::string slurry_error;
 };
 
 class SphRun;

@@ -1,0 +1,290 @@
+#include "sim/wet_mill.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "millsim/core/error.hpp"
+#include "millsim/io/plot_png.hpp"
+#include "millsim/vision/slurry_curve.hpp"
+#include "sph/eos.hpp"
+#include "sph/geometry.hpp"
+#include "sph/sph_kernels.hpp"
+
+namespace millsim::sim {
+
+namespace {
+
+double gravityNorm(const scene::Scene& sc) {
+  return std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
+}
+
+int lineOf(const scene::Scene& sc, const std::string& element) {
+  const auto it = sc.element_lines.find(element);
+  return it == sc.element_lines.end() ? 0 : it->second;
+}
+
+struct FillPoint {
+  double x, y, z;
+};
+
+}  // namespace
+
+WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::DemHostState& balls, double phi,
+                 double t)
+    : m_scene(sc), m_phi0(phi), m_t0(t) {
+  const scene::SphParams& p = sc.sph;
+  if (p.dimension != 3)
+    throw core::InputError(sc.source, lineOf(sc, "sph"), "<sph dimension=\"2\">: a wet mill is 3D (dimension=\"3\")");
+  if (p.integrator != "verlet")
+    throw core::InputError(sc.source, lineOf(sc, "sph"),
+                           "<sph integrator=\"" + p.integrator + "\">: the wet mill couples with verlet only");
+  const double dp = p.dp, R = 0.5 * sc.drum.diameter, L = sc.drum.length;
+  const double g = gravityNorm(sc);
+  m_balls = balls.size();
+
+  // Slurry: lattice points inside the drum, clear of walls, lifters and balls; the lowest
+  // filling x V_drum / dp^3 of them (the pool a poured slurry forms).
+  sph::DrumGeometry drum{R, L, sc.drum.lifters.count, sc.drum.lifters.height, sc.drum.lifters.width,
+                         phi + 0.5 * std::acos(-1.0)};  // DrumMotion's phase0: a lifter on top at phi = 0
+  std::vector<FillPoint> candidates;
+  const int n = static_cast<int>(std::ceil(R / dp)), nz = static_cast<int>(std::floor(L / dp + 1e-9));
+  for (int k = 0; k < nz; ++k)
+    for (int j = -n; j < n; ++j)
+      for (int i = -n; i < n; ++i) {
+        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        if (std::hypot(x, y) > R - 0.5 * dp || sph::insideLifter(drum, x, y, 0.5 * dp)) continue;
+        candidates.push_back({x, y, z});
+      }
+  std::vector<char> free(candidates.size(), 1);
+  for (std::size_t b = 0; b < m_balls; ++b) {
+    const double cx = balls.pos[3 * b], cy = balls.pos[3 * b + 1], cz = balls.pos[3 * b + 2];
+    const double clear = balls.radius[b] + 0.5 * dp;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      if (!free[c]) continue;
+      const double dx = candidates[c].x - cx, dy = candidates[c].y - cy, dz = candidates[c].z - cz;
+      if (dx * dx + dy * dy + dz * dz < clear * clear) free[c] = 0;
+    }
+  }
+  std::vector<FillPoint> fluid;
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    if (free[c]) fluid.push_back(candidates[c]);
+  const double v_drum = std::acos(-1.0) * R * R * L;
+  const std::size_t wanted = static_cast<std::size_t>(std::llround(sc.slurry.filling * v_drum / (dp * dp * dp)));
+  if (wanted > fluid.size()) {
+    std::ostringstream m;
+    m << "<slurry filling=\"" << sc.slurry.filling << "\">: " << wanted << " slurry particles asked for, only "
+      << fluid.size() << " fit between the balls and the walls at dp = " << dp << " m";
+    throw core::InputError(sc.source, lineOf(sc, "slurry"), m.str());
+  }
+  std::stable_sort(fluid.begin(), fluid.end(), [](const FillPoint& a, const FillPoint& b) { return a.y < b.y; });
+  fluid.resize(wanted);
+  const double surface_y = fluid.empty() ? -R : fluid.back().y + 0.5 * dp;
+
+  m_setup.dimension = 3;
+  m_setup.kernel = p.kernel;
+  m_setup.ddt = p.ddt;
+  m_setup.viscosity = p.viscosity;
+  m_setup.integrator = p.integrator;
+  m_setup.shifting = p.shifting == "full";
+  m_setup.dp = dp;
+  m_setup.h = p.coefh * dp * std::sqrt(3.0);
+  const double hswl = p.hswl > 0 ? p.hswl : surface_y + R;
+  m_setup.c0 = p.coefsound * std::sqrt(g * std::max(hswl, dp));
+  m_setup.rho0 = p.rho0;
+  m_setup.gamma = p.gamma;
+  m_setup.alpha = p.alpha;
+  m_setup.visco_bound_factor = p.visco_bound_factor;
+  m_setup.nu = p.nu;
+  m_setup.ddt_value = p.ddt_value;
+  m_setup.shift_coef = p.shift_coef;
+  m_setup.shift_tfs = p.shift_tfs > 0 ? p.shift_tfs : 2.75;
+  m_setup.verlet_steps = p.verlet_steps;
+  m_setup.cfl = p.cfl;
+  m_setup.fixed_dt = sc.time.dt_mode == "fixed";
+  m_setup.dt_fixed = sc.time.dt_fixed;
+  m_setup.rho_min = p.rhop_out_min;
+  m_setup.rho_max = p.rhop_out_max;
+  m_setup.gravity = sc.gravity;
+  const int layers = p.boundary_layers > 0 ? p.boundary_layers : static_cast<int>(std::ceil(2 * m_setup.h / dp - 1e-9));
+  const double wall = (layers + 2) * dp;
+  m_setup.domain_lo = {-R - wall, -R - wall, -wall};
+  m_setup.domain_hi = {R + wall, R + wall, L + wall};
+  m_setup.motion_center = {0, 0, 0};
+
+  sph::SphHostState st;
+  for (const FillPoint& f : fluid) {
+    st.pos.insert(st.pos.end(), {f.x, f.y, f.z});
+    st.vel.insert(st.vel.end(), {0.0, 0.0, 0.0});
+    st.rho.push_back(p.rho0);
+    st.code.push_back(sph::kFluid);
+  }
+  m_fluid0 = static_cast<long long>(fluid.size());
+  sph::addDrumWalls(st, drum, dp, layers, p.rho0);
+  std::vector<sph::SphBody> bodies(m_balls);
+  for (std::size_t b = 0; b < m_balls; ++b) {
+    const std::array<double, 3> c{balls.pos[3 * b], balls.pos[3 * b + 1], balls.pos[3 * b + 2]};
+    const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)));
+    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0);
+    bodies[b].pos = c;
+  }
+  if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
+  m_particles = st.size();
+  if (options.backend == "cuda") {
+#if defined(MILLSIM_HAVE_CUDA)
+    m_engine = sph::makeSphEngineCuda(m_setup);
+#else
+    throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
+#endif
+  } else {
+    m_engine = sph::makeSphEngineOmp(m_setup);
+  }
+  m_engine->setState(st);
+  for (std::size_t b = 0; b < m_balls; ++b) {
+    for (int a = 0; a < 3; ++a) {
+      bodies[b].vel[a] = balls.vel[3 * b + a];
+      bodies[b].omega[a] = balls.omega[3 * b + a];
+    }
+  }
+  m_engine->setBodyKinematics(bodies);
+  m_engine->initialize(motionAt(phi, 0.0));
+}
+
+void WetMill::advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, double& phi, long long& dem_steps,
+                      double dt_dem) {
+  const double dt = m_engine->nextDt();
+  const std::vector<sph::SphBodyLoad> loads = m_engine->bodyLoads();
+  std::vector<double> force(3 * m_balls), torque(3 * m_balls);
+  for (std::size_t b = 0; b < m_balls; ++b)
+    for (int a = 0; a < 3; ++a) {
+      force[3 * b + a] = loads[b].force[a];
+      torque[3 * b + a] = loads[b].torque[a];
+    }
+  dem.setExternalForces(force, torque);
+  const int sub = std::max(1, static_cast<int>(std::ceil(dt / dt_dem - 1e-9)));
+  const double h = dt / sub;
+  for (int k = 0; k < sub; ++k) {
+    phi += motion.omega(t + h) * h;
+    dem.step(motion.at(t + h, phi), h);
+    t += h;
+    ++dem_steps;
+  }
+  dem::DemHostState s;
+  dem.getState(s);
+  std::vector<sph::SphBody> bodies(m_balls);
+  for (std::size_t b = 0; b < m_balls; ++b)
+    for (int a = 0; a < 3; ++a) {
+      bodies[b].pos[a] = s.pos[3 * b + a];
+      bodies[b].vel[a] = s.vel[3 * b + a];
+      bodies[b].omega[a] = s.omega[3 * b + a];
+    }
+  m_engine->setBodyKinematics(bodies);
+  const sph::SphMotion end = motionAt(phi, motion.omega(t));
+  m_engine->step(dt, end, end);
+  ++m_steps;
+  const sph::SphSums now = m_engine->sums();
+  const long long excluded = now.excluded_density + now.excluded_domain;
+  if (double(excluded) > m_scene.sph.parts_out_max * double(m_fluid0)) {
+    std::ostringstream m;
+    m << "SPH-DEM: " << excluded << " of " << m_fluid0 << " slurry particles excluded by t = " << t << " s ("
+      << now.excluded_density << " by density, " << now.excluded_domain
+      << " outside the domain), more than sph.parts_out_max = " << m_scene.sph.parts_out_max
+      << ": lower sph.cfl or raise sph.coefsound";
+    throw core::SimulationError(m.str());
+  }
+}
+
+void WetMill::captureSurface() {
+  sph::SphHostState s;
+  m_engine->getState(s);
+  const double dp = m_setup.dp, z_mid = 0.5 * m_scene.drum.length, R = 0.5 * m_scene.drum.diameter;
+  const int bins = static_cast<int>(std::ceil(2 * R / dp));
+  std::vector<double> top(bins, -1e300);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s.code[i] != sph::kFluid || std::abs(s.pos[3 * i + 2] - z_mid) > dp) continue;
+    const int b = static_cast<int>(std::floor((s.pos[3 * i] + R) / dp));
+    if (b >= 0 && b < bins) top[b] = std::max(top[b], s.pos[3 * i + 1]);
+  }
+  for (int b = 0; b < bins; ++b)
+    if (top[b] > -1e299) m_surface.push_back({1000 * (-R + (b + 0.5) * dp), 1000 * top[b], m_frames});
+  ++m_frames;
+}
+
+void WetMill::finish(const std::filesystem::path& out, RunSummary& summary, bool write) {
+  summary.sph_particles = m_particles;
+  const sph::SphSums now = m_engine->sums();
+  summary.sph_excluded = now.excluded_density + now.excluded_domain;
+  summary.sph_steps = m_steps;
+  summary.slurry_frames = m_frames;
+  // Per horizontal position: keep the frames' points between the median and Q3 (paper).
+  std::map<long long, std::vector<double>> by_x;
+  for (const auto& p : m_surface) by_x[std::llround(p.x_mm * 1000)].push_back(p.y_mm);
+  std::vector<vision::SurfacePoint> kept;
+  for (const auto& p : m_surface) {
+    std::vector<double> ys = by_x[std::llround(p.x_mm * 1000)];
+    std::sort(ys.begin(), ys.end());
+    const double median = ys[ys.size() / 2], q3 = ys[(3 * ys.size()) / 4];
+    if (p.y_mm >= median && p.y_mm <= q3) kept.push_back(p);
+  }
+  try {
+    const vision::SlurryCurve curve = vision::fitSlurryCurve(kept, 3.0, 0.95);
+    summary.slurry_valid = true;
+    summary.slurry_coef = curve.fit.coef;
+    m_curve_valid = true;
+    m_curve = curve.fit.coef;
+    m_x_min_mm = curve.x_min_mm;
+    m_x_max_mm = curve.x_max_mm;
+    if (write) {
+      vision::writeSlurryCurveCsv((out / "slurry_curve.csv").string(), curve);
+      vision::writeSurfacePointsCsv((out / "slurry_points.csv").string(), curve);
+      // The band for the overlay, in metres.
+      io::PlotCurve fit, low, high;
+      fit.rgb = {200, 30, 30};
+      low.rgb = high.rgb = {240, 150, 40};
+      low.thickness = high.thickness = 1;
+      for (double x = curve.x_min_mm; x <= curve.x_max_mm; x += 1.0) {
+        const double y = curve.fit.value(x), w = curve.fit.halfWidth(x);
+        fit.x.push_back(x / 1000), fit.y.push_back(y / 1000);
+        low.x.push_back(x / 1000), low.y.push_back((y - w) / 1000);
+        high.x.push_back(x / 1000), high.y.push_back((y + w) / 1000);
+      }
+      m_overlay_curves = {fit, low, high};
+    }
+  } catch (const std::exception& e) {
+    summary.slurry_valid = false;
+    summary.slurry_error = e.what();
+  }
+  if (write) writeOverlay(out / "slurry_overlay.png", summary);
+}
+
+void WetMill::writeOverlay(const std::filesystem::path& path, const RunSummary& summary) const {
+  sph::SphHostState s;
+  m_engine->getState(s);
+  const double R = 0.5 * m_scene.drum.diameter, z_mid = 0.5 * m_scene.drum.length, dp = m_setup.dp;
+  std::vector<double> x, y, v;
+  std::vector<bool> gray;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (sph::isExcluded(s.code[i]) || std::abs(s.pos[3 * i + 2] - z_mid) > 1.5 * dp) continue;
+    x.push_back(s.pos[3 * i]);
+    y.push_back(s.pos[3 * i + 1]);
+    v.push_back(s.code[i] == sph::kFluid ? -1.0 : 1.0);  // fluid blue
+    gray.push_back(s.code[i] != sph::kFluid);
+  }
+  const double margin = R + 4 * dp;
+  char title[200];
+  std::snprintf(title, sizeof title, "%s: mid-plane slab, slurry curve %s", m_scene.name.c_str(),
+                summary.slurry_valid ? "(red) with its 95% band (orange)" : "not measured");
+  io::writeParticleSnapshot(path.string(), x, y, v, gray, 0.5 * dp, {-margin, margin, -margin, margin},
+                            800 / (2 * margin), -1.0, 1.0, title, "", m_overlay_curves);
+}
+
+std::vector<std::string> WetMill::stages() const {
+  std::vector<std::string> s{"sph_neighbour_build", "sph_pressure", "sph_interaction", "sph_verlet",
+                             "sph_dem_coupling"};
+  if (m_setup.shifting) s.push_back("sph_shifting");
+  return s;
+}
+
+}  // namespace millsim::sim

@@ -1,0 +1,69 @@
+#pragma once
+// The wet mill (paper's third stage): balls (DEM) and slurry (SPH) in one rotating drum,
+// coupled both ways. Created when the drum starts (the charge has settled during compaction):
+// the slurry is poured into the voids of the charge, the drum walls become moving boundary
+// particles, and every ball carries a shell of body particles (sph::kBoundBody) so the fluid
+// sees it; the summed fluid force and torque on each shell drive its ball (DEM external loads).
+//
+// Time stepping: one SPH step of dt_sph (CFL) per advance(); inside it the DEM takes
+// ceil(dt_sph / dt_dem) sub-steps with the fluid loads of the step's start held fixed, then the
+// shells are placed at the balls' new positions and the fluid steps. Stable while a ball moves
+// much less than dp per SPH step (v dt_sph << dp: 3 m/s x 5e-5 s = 0.15 mm against 5 mm).
+//
+// The slurry surface is measured as the paper measures it in its simulations (section 3.8.2):
+// in the plane at mid-length, for each horizontal position the highest fluid particle, per
+// frame; per position only the points between the median and Q3 over the frames are kept; a
+// quadratic is fitted with its 95% band (vision::fitSlurryCurve, the code the videos use).
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dem/dem_engine.hpp"
+#include "millsim/io/plot_png.hpp"
+#include "millsim/scene/scene.hpp"
+#include "millsim/sim/simulation.hpp"
+#include "millsim/vision/slurry_surface.hpp"
+#include "sim/drum_motion.hpp"
+#include "sph/sph_engine.hpp"
+
+namespace millsim::sim {
+
+class WetMill {
+ public:
+  WetMill(const scene::Scene& scene, const RunOptions& options, const dem::DemHostState& balls, double phi, double t);
+
+  // One coupled step; advances t, phi and the DEM step count.
+  void advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, double& phi, long long& dem_steps,
+               double dt_dem);
+  void captureSurface();
+  // Slurry curve (OUT/slurry_curve.csv, slurry_points.csv, slurry_overlay.png) into the summary.
+  void finish(const std::filesystem::path& out, RunSummary& summary, bool write);
+
+  sph::SphSums sums() const { return m_engine->sums(); }
+  std::map<std::string, std::size_t> memoryBytes() const { return m_engine->memoryBytes(); }
+  std::vector<std::string> stages() const;
+  std::size_t particles() const { return m_particles; }
+  long long sphSteps() const { return m_steps; }
+  double startTime() const { return m_t0; }
+
+ private:
+  sph::SphMotion motionAt(double phi, double omega) const { return {phi - m_phi0, omega}; }
+  void writeOverlay(const std::filesystem::path& path, const RunSummary& summary) const;
+
+  scene::Scene m_scene;
+  sph::SphSetup m_setup;
+  std::unique_ptr<sph::SphEngine> m_engine;
+  std::size_t m_particles = 0, m_balls = 0;
+  long long m_fluid0 = 0, m_steps = 0;
+  double m_phi0 = 0, m_t0 = 0;
+  std::vector<vision::SurfacePoint> m_surface;  // per frame, highest fluid per x bin (mm)
+  int m_frames = 0;
+  bool m_curve_valid = false;
+  std::array<double, 3> m_curve{};
+  double m_x_min_mm = 0, m_x_max_mm = 0;
+  std::vector<io::PlotCurve> m_overlay_curves;
+};
+
+}  // namespace millsim::sim
