@@ -25,8 +25,6 @@ namespace millsim::sim {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 double gravityNorm(const scene::Scene& sc) {
   return std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
 }
@@ -35,8 +33,6 @@ int lineOf(const scene::Scene& sc, const std::string& element) {
   const auto it = sc.element_lines.find(element);
   return it == sc.element_lines.end() ? 0 : it->second;
 }
-
-}  // namespace
 
 std::vector<Probe> parseProbes(const scene::Scene& scene) {
   std::vector<Probe> out;
@@ -80,7 +76,7 @@ std::vector<Probe> parseProbes(const scene::Scene& scene) {
   return out;
 }
 
-sph::SphSetup sphSetupOf(const scene::Scene& sc) {
+sph::SphSetup sphSolverSetup(const scene::Scene& sc, double still_water_height) {
   const scene::SphParams& p = sc.sph;
   sph::SphSetup s;
   s.dimension = p.dimension;
@@ -91,7 +87,7 @@ sph::SphSetup sphSetupOf(const scene::Scene& sc) {
   s.shifting = p.shifting == "full";
   s.dp = p.dp;
   s.h = p.coefh * p.dp * std::sqrt(double(p.dimension));
-  const double hswl = p.hswl > 0 ? p.hswl : sc.fluid.y_max - sc.fluid.y_min;
+  const double hswl = p.hswl > 0 ? p.hswl : still_water_height;
   s.c0 = p.coefsound * std::sqrt(gravityNorm(sc) * hswl);
   if (!(s.c0 > 0))
     throw core::InputError(sc.source, lineOf(sc, "sph"),
@@ -111,9 +107,19 @@ sph::SphSetup sphSetupOf(const scene::Scene& sc) {
   s.rho_min = p.rhop_out_min;
   s.rho_max = p.rhop_out_max;
   s.gravity = sc.gravity;
+  return s;
+}
+
+int boundaryLayers(const scene::Scene& sc, const sph::SphSetup& s) {
+  return sc.sph.boundary_layers > 0 ? sc.sph.boundary_layers : static_cast<int>(std::ceil(2 * s.h / s.dp - 1e-9));
+}
+
+sph::SphSetup sphSetupOf(const scene::Scene& sc) {
+  sph::SphSetup s = sphSolverSetup(sc, sc.fluid.y_max - sc.fluid.y_min);
+  const scene::SphParams& p = sc.sph;
   // Domain: the tank (or the fluid) and its walls, with room above an open top for splashes;
   // a rotating tank sweeps the circle through its corners.
-  const int layers = p.boundary_layers > 0 ? p.boundary_layers : static_cast<int>(std::ceil(2 * s.h / p.dp - 1e-9));
+  const int layers = boundaryLayers(sc, s);
   std::array<double, 3> lo, hi;
   if (sc.has_tank) {
     lo = {sc.tank.x_min, sc.tank.y_min, sc.tank.z_min};
@@ -153,8 +159,7 @@ sph::SphHostState sphParticlesOf(const scene::Scene& sc, const sph::SphSetup& s)
     throw core::InputError(sc.source, lineOf(sc, "fluid"), "<fluid>: the box holds no particle at dp = " +
                                                                std::to_string(s.dp) + " m (is it smaller than dp?)");
   if (sc.has_tank) {
-    const int layers =
-        sc.sph.boundary_layers > 0 ? sc.sph.boundary_layers : static_cast<int>(std::ceil(2 * s.h / s.dp - 1e-9));
+    const int layers = boundaryLayers(sc, s);
     const int code = sc.tank.rotation_rpm != 0 ? sph::kBoundMoving : sph::kBoundFixed;
     sph::addTankWalls(st, {{sc.tank.x_min, sc.tank.y_min, sc.tank.z_min}, {sc.tank.x_max, sc.tank.y_max, sc.tank.z_max}},
                       s.dp, dim, layers, sc.tank.closed, code, s.rho0);

@@ -11,20 +11,12 @@
 #include "millsim/vision/slurry_curve.hpp"
 #include "sph/eos.hpp"
 #include "sph/geometry.hpp"
+#include "sim/sph_run.hpp"
 #include "sph/sph_kernels.hpp"
 
 namespace millsim::sim {
 
 namespace {
-
-double gravityNorm(const scene::Scene& sc) {
-  return std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
-}
-
-int lineOf(const scene::Scene& sc, const std::string& element) {
-  const auto it = sc.element_lines.find(element);
-  return it == sc.element_lines.end() ? 0 : it->second;
-}
 
 struct FillPoint {
   double x, y, z;
@@ -83,32 +75,8 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   fluid.resize(wanted);
   const double surface_y = fluid.empty() ? -R : fluid.back().y + 0.5 * dp;
 
-  m_setup.dimension = 3;
-  m_setup.kernel = p.kernel;
-  m_setup.ddt = p.ddt;
-  m_setup.viscosity = p.viscosity;
-  m_setup.integrator = p.integrator;
-  m_setup.shifting = p.shifting == "full";
-  m_setup.dp = dp;
-  m_setup.h = p.coefh * dp * std::sqrt(3.0);
-  const double hswl = p.hswl > 0 ? p.hswl : surface_y + R;
-  m_setup.c0 = p.coefsound * std::sqrt(g * std::max(hswl, dp));
-  m_setup.rho0 = p.rho0;
-  m_setup.gamma = p.gamma;
-  m_setup.alpha = p.alpha;
-  m_setup.visco_bound_factor = p.visco_bound_factor;
-  m_setup.nu = p.nu;
-  m_setup.ddt_value = p.ddt_value;
-  m_setup.shift_coef = p.shift_coef;
-  m_setup.shift_tfs = p.shift_tfs > 0 ? p.shift_tfs : 2.75;
-  m_setup.verlet_steps = p.verlet_steps;
-  m_setup.cfl = p.cfl;
-  m_setup.fixed_dt = sc.time.dt_mode == "fixed";
-  m_setup.dt_fixed = sc.time.dt_fixed;
-  m_setup.rho_min = p.rhop_out_min;
-  m_setup.rho_max = p.rhop_out_max;
-  m_setup.gravity = sc.gravity;
-  const int layers = p.boundary_layers > 0 ? p.boundary_layers : static_cast<int>(std::ceil(2 * m_setup.h / dp - 1e-9));
+  m_setup = sphSolverSetup(sc, std::max(surface_y + R, dp));
+  const int layers = boundaryLayers(sc, m_setup);
   const double wall = (layers + 2) * dp;
   m_setup.domain_lo = {-R - wall, -R - wall, -wall};
   m_setup.domain_hi = {R + wall, R + wall, L + wall};
