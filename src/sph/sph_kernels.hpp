@@ -168,6 +168,19 @@ struct BoundaryMotion {
   }
 };
 
+// Moving walls at their imposed position and velocity (initial placement).
+template <class T>
+struct PlaceMovingBoundaries {
+  const Vec3<T>* pos0;
+  Vec3<T>* pos;
+  Vec3<T>* vel;
+  const int* code;
+  BoundaryMotion<T> motion;
+  MILLSIM_HD void operator()(int i) const {
+    if (code[i] == kBoundMoving) motion.apply(pos0[i], pos[i], vel[i]);
+  }
+};
+
 // Body particles at their body's centre + offset, moving with it: v + omega x offset.
 template <class T>
 struct PlaceBodyParticles {
