@@ -60,9 +60,10 @@ class QuietOpenCvLog {
 };
 
 void openVideo(cv::VideoCapture& cap, const std::string& path) {
-  // FFmpeg first: CAP_ANY would also try the image-sequence backend, which reads "%d" in a name.
+  // FFmpeg only (Debian's OpenCV has it; it reads mp4 and avi): CAP_ANY would also try the
+  // image-sequence backend, which reads "%d" in a name, and GStreamer, which prints pages of
+  // warnings to stderr for a file it cannot play instead of failing quietly.
   cap.open(path, cv::CAP_FFMPEG);
-  if (!cap.isOpened()) cap.open(path, cv::CAP_ANY);
 }
 
 }  // namespace
