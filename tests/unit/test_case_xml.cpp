@@ -92,10 +92,14 @@ TEST(CaseXml, EveryShippedCaseParses) {
     ASSERT_NO_THROW(s = loadCaseFile(entry.path().string()));
     EXPECT_EQ(s.name, entry.path().stem().string());  // root name matches the file name
     EXPECT_EQ(s.source, entry.path().string());
-    // A balls case has its drum, a fluid case its fluid.
+    // A balls case has its drum (or its stirred chamber), a fluid case its fluid.
     EXPECT_TRUE(s.effect_dem || s.effect_sph);
-    if (s.effect_dem) EXPECT_TRUE(s.has_drum);
-    if (s.effect_sph) EXPECT_TRUE(s.has_fluid);
+    if (s.effect_dem) {
+      EXPECT_TRUE(s.has_drum || s.has_stirrer);
+    }
+    if (s.effect_sph) {
+      EXPECT_TRUE(s.has_fluid);
+    }
   }
   EXPECT_GE(count, 7);
 }
@@ -366,7 +370,8 @@ TEST(CaseXmlErrors, UnknownElement) {
   const Failure f = textFailure(small("<dem/>", "<drums/>"));
   EXPECT_EQ(f.what,
             "t.xml:3: unknown element <drums> under <millsim> (expected one of: time, gravity, "
-            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, tank, probes); did you mean "
+            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, tank, probes, stirrer, beads, "
+            "lubrication, collisions); did you mean "
             "'drum'?");
   const Failure misplaced = textFailure(small("<dem/>", "<lifters/>"));
   EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos)
