@@ -12,10 +12,10 @@
 #include "dem/collision_stats.hpp"
 #include "dem/contact/linear_spring.hpp"
 #include "dem/dem_engine.hpp"
-#include "dem/walls/stirrer_walls.hpp"
 #include "dem/dem_kernels.hpp"
 #include "dem/partner_scatter.hpp"
 #include "dem/reorder_kernels.hpp"
+#include "dem/walls/stirrer_walls.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 

@@ -19,10 +19,10 @@ struct StirrerState {
 };
 
 struct StirredSums {
-  double stirrer_torque = 0;     // N m about +z, on the stirrer (shaft + disks) from the beads
-  double outer_torque = 0;       // N m about +z, on the still chamber from the beads
+  double stirrer_torque = 0;          // N m about +z, on the stirrer (shaft + disks) from the beads
+  double outer_torque = 0;            // N m about +z, on the still chamber from the beads
   double lubrication_dissipated = 0;  // J, accumulated
-  CollisionTally totals{};       // summed over the beads
+  CollisionTally totals{};            // summed over the beads
 };
 
 }  // namespace millsim::dem

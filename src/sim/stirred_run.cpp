@@ -107,8 +107,8 @@ dem::DemHostState placeBeads(const scene::Scene& scene) {
         }
   if (static_cast<int>(sites.size()) < b.count) {
     std::ostringstream m;
-    m << "beads.count = " << b.count << " does not fit: the placement lattice (spacing " << nn * 1e3
-      << " mm) has only " << sites.size() << " free sites in the chamber; lower beads.lattice_factor or the count";
+    m << "beads.count = " << b.count << " does not fit: the placement lattice (spacing " << nn * 1e3 << " mm) has only "
+      << sites.size() << " free sites in the chamber; lower beads.lattice_factor or the count";
     throw core::InputError(scene.source, 0, m.str());
   }
   std::mt19937_64 rng(b.seed);
@@ -255,8 +255,8 @@ struct StirredRun::Impl {
       const double rho = std::sqrt(x * x + y * y);
       if (!(rho < R + tol && rho > rs - tol && z > -tol && z < L + tol)) {
         std::ostringstream m;
-        m << "DEM: bead " << i << " escaped the chamber at t = " << t << " s, position (" << x << ", " << y << ", "
-          << z << ") m: contacts too soft or the step too long for the speeds reached";
+        m << "DEM: bead " << i << " escaped the chamber at t = " << t << " s, position (" << x << ", " << y << ", " << z
+          << ") m: contacts too soft or the step too long for the speeds reached";
         throw core::SimulationError(m.str());
       }
     }
@@ -293,7 +293,8 @@ struct StirredRun::Impl {
       const int cy = std::clamp(static_cast<int>((y + R) / (2 * R) * gx), 0, gx - 1);
       const int cz = std::clamp(static_cast<int>(z / L * gz), 0, gz - 1);
       const std::size_t c = (static_cast<std::size_t>(cz) * gx + cy) * gx + cx;
-      const double v2 = s.vel[3 * i] * s.vel[3 * i] + s.vel[3 * i + 1] * s.vel[3 * i + 1] + s.vel[3 * i + 2] * s.vel[3 * i + 2];
+      const double v2 =
+          s.vel[3 * i] * s.vel[3 * i] + s.vel[3 * i + 1] * s.vel[3 * i + 1] + s.vel[3 * i + 2] * s.vel[3 * i + 2];
       const double w2 = s.omega[3 * i] * s.omega[3 * i] + s.omega[3 * i + 1] * s.omega[3 * i + 1] +
                         s.omega[3 * i + 2] * s.omega[3 * i + 2];
       v_sum[c] += std::sqrt(v2);
@@ -501,8 +502,8 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
     f << "# run totals (whole run): bead-bead normal damping J," << t.dissipated_normal
       << "\n# run totals: bead-bead tangential J,"
       << (t.dissipated[0] + t.dissipated[1] + t.dissipated[2] + t.dissipated[3] - t.dissipated_normal)
-      << "\n# run totals: bead-wall contacts J," << t.dissipated_wall
-      << "\n# run totals: lubrication J," << energy.lubrication_dissipated << "\n";
+      << "\n# run totals: bead-wall contacts J," << t.dissipated_wall << "\n# run totals: lubrication J,"
+      << energy.lubrication_dissipated << "\n";
   }
   {
     std::ofstream f(out / "regions.csv");

@@ -21,10 +21,10 @@ namespace millsim::sim {
 struct StirredLevel {
   double rpm = 0;
   double t_begin = 0, t_average = 0, t_end = 0;  // level starts (ramp), averaging window starts, ends
-  double power_W = 0;             // stirrer work over the window / its length
-  double net_power_W = 0;         // power_W - idle power
-  double stirrer_torque_Nm = 0;   // mean torque of the beads on the stirrer (motor torque = -this)
-  double outer_torque_Nm = 0;     // mean torque of the beads on the still chamber
+  double power_W = 0;                            // stirrer work over the window / its length
+  double net_power_W = 0;                        // power_W - idle power
+  double stirrer_torque_Nm = 0;                  // mean torque of the beads on the stirrer (motor torque = -this)
+  double outer_torque_Nm = 0;                    // mean torque of the beads on the still chamber
   int samples = 0;
 };
 

@@ -541,6 +541,14 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "fluid.x_min", "fluid.y_min", "fluid.z_min", "fluid.x_max", "fluid.y_max", "fluid.z_max",
       "tank.x_min", "tank.y_min", "tank.z_min", "tank.x_max", "tank.y_max", "tank.z_max", "tank.closed",
       "tank.rotation_rpm", "tank.spin_up",
+      "dem.law", "dem.linear_stiffness",
+      "stirrer.chamber_diameter", "stirrer.chamber_length", "stirrer.shaft_diameter", "stirrer.disk_count",
+      "stirrer.disk_diameter", "stirrer.disk_thickness", "stirrer.hole_count", "stirrer.hole_diameter",
+      "stirrer.hole_ring_diameter", "stirrer.speeds_rpm", "stirrer.hold", "stirrer.ramp", "stirrer.average_from",
+      "stirrer.idle_power_W",
+      "beads.count", "beads.diameter", "beads.diameter_max", "beads.lattice_factor", "beads.seed",
+      "lubrication.viscosity", "lubrication.inner", "lubrication.outer",
+      "collisions.start", "collisions.sample_every", "collisions.grid_radial", "collisions.grid_axial",
       "probes.points"};
   // clang-format on
   EXPECT_EQ(paths, expected);

@@ -88,7 +88,8 @@ TEST(Lubrication, WallIsTheLargePartnerLimit) {
   EXPECT_NEAR((p.yc11 / lp) / (w.yc11 / lw), 1.0, 1e-5);
   const double tiny = 1e-13 * a;
   EXPECT_NEAR(tiny * JeffreyOnishi<double>::pairScalars(a, big, tiny).xa /
-                  (tiny * JeffreyOnishi<double>::wallScalars(a, tiny).xa), 1.0, 1e-5);
+                  (tiny * JeffreyOnishi<double>::wallScalars(a, tiny).xa),
+              1.0, 1e-5);
   EXPECT_NEAR(tiny * JeffreyOnishi<double>::wallScalars(a, tiny).xa / (6 * kPi * a * a), 1.0, 1e-9);
 }
 
@@ -164,7 +165,7 @@ TEST(Lubrication, ActionReactionSymmetryAndDissipation) {
     EXPECT_GE(a.dissipation_rate, -1e-12 * p_scale);
     const auto w = lub.wall(n, h, ri, vi - vj, wi);
     EXPECT_GE(w.dissipation_rate, -1e-12 * (millsim::core::norm(w.force) * millsim::core::norm(vi - vj) +
-                                          millsim::core::norm(w.torque_i) * millsim::core::norm(wi)));
+                                            millsim::core::norm(w.torque_i) * millsim::core::norm(wi)));
   }
 }
 
@@ -228,7 +229,8 @@ TEST(Lubrication, ApproachingPairLosesEnergyAccordingToStokesNumber) {
   const double h0 = 0.05 * 2 * a, h_in = 0.001 * 2 * a;
   auto xw = [&](double h) { return 6 * kPi * a * a / h + 6 * kPi * a / 5 * std::log(a / h); };
   auto prim = [&](double h) { return h * std::log(a / h) + h; };
-  const double integral = 6 * kPi * a * a * std::log(h0 / h_in) + 6 * kPi * a / 5 * (prim(h0) - prim(h_in)) + xw(h_in) * h_in;
+  const double integral =
+      6 * kPi * a * a * std::log(h0 / h_in) + 6 * kPi * a / 5 * (prim(h0) - prim(h_in)) + xw(h_in) * h_in;
   const double tc = kPi * std::sqrt(m / kn);
   const double dt = tc / 4000;
   const Bounce dry = integrateBounce(a, m, v0, 0.0, kn, e, dt);
@@ -241,7 +243,8 @@ TEST(Lubrication, ApproachingPairLosesEnergyAccordingToStokesNumber) {
     // Contact speed: 0.5% covers the first-order position update at dt = t_c / 4000.
     EXPECT_NEAR(wet.v_contact / vc, 1.0, 5e-3) << "St " << st;
     EXPECT_NEAR(vc / v0, 1.0 - integral / (6 * kPi * a * a * st), 1e-12);
-    const double z = (2 * millsim::dem::linearDampingRatio(e) * std::sqrt(m * kn) + mu * xw(h_in)) / (2 * std::sqrt(m * kn));
+    const double z =
+        (2 * millsim::dem::linearDampingRatio(e) * std::sqrt(m * kn) + mu * xw(h_in)) / (2 * std::sqrt(m * kn));
     const double e_contact = std::exp(-kPi * z / std::sqrt(1 - z * z));
     const double v_out = e_contact * vc - mu * integral / m;
     // The contact phase's e' of the linear oscillator is exact; 1% covers the time stepping.

@@ -49,9 +49,9 @@ TEST(StirrerWalls, Ls1VolumesMatchTheSeed) {
   // chamber without the stirrer, which the 43 % filling refers to). 1% tolerance: the geometry is
   // rounded to 0.5 mm.
   const millsim::scene::StirrerParams st;
-  const auto v = millsim::dem::stirrerVolumes(0.5 * st.chamber_diameter, st.chamber_length, 0.5 * st.shaft_diameter,
-                                               st.disk_count, 0.5 * st.disk_diameter, st.disk_thickness,
-                                               st.hole_count, 0.5 * st.hole_diameter);
+  const auto v =
+      millsim::dem::stirrerVolumes(0.5 * st.chamber_diameter, st.chamber_length, 0.5 * st.shaft_diameter, st.disk_count,
+                                   0.5 * st.disk_diameter, st.disk_thickness, st.hole_count, 0.5 * st.hole_diameter);
   EXPECT_NEAR(v.chamber * 1e3, 0.910, 0.01 * 0.910);
   EXPECT_NEAR(v.free_volume * 1e3, 0.66, 0.01 * 0.66);
   // 128 000 beads of 1.8 mm are 43 % of the chamber volume (seed: 0.393 l, 43 %).

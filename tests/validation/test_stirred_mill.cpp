@@ -64,7 +64,7 @@ TEST(StirredEngine, LubricationPassMatchesTheLawAndConservesMomentum) {
   millsim::dem::LubricationParams<double> p;
   p.viscosity = mu;
   const auto law = millsim::dem::JeffreyOnishi<double>{p}.pair({-1, 0, 0}, gap, r, r, {v, 0.3 * v, 0}, {-v, 0, 0},
-                                                              {0, 0, 30.0}, {0, 30.0, 0});
+                                                               {0, 0, 30.0}, {0, 30.0, 0});
   const double lf[3] = {law.force.x, law.force.y, law.force.z};
   for (int a = 0; a < 3; ++a) {
     const double f = m * (s1.vel[a] - s0.vel[a]) / dt;

@@ -43,7 +43,7 @@ namespace millsim::dem {
 
 template <class T>
 struct LubricationParams {
-  T viscosity = 0;   // mu [Pa s]
+  T viscosity = 0;     // mu [Pa s]
   T inner = T(0.001);  // h_in = inner d_ij
   T outer = T(0.05);   // active for h < outer d_ij
 };

@@ -148,8 +148,8 @@ inline StirrerVolumes stirrerVolumes(double R, double L, double r_shaft, int dis
   const double pi = 3.14159265358979323846;
   StirrerVolumes v;
   v.chamber = pi * R * R * L;
-  v.stirrer = pi * r_shaft * r_shaft * L +
-              disks * (pi * (r_disk * r_disk - r_shaft * r_shaft) * thickness - holes * pi * r_hole * r_hole * thickness);
+  v.stirrer = pi * r_shaft * r_shaft * L + disks * (pi * (r_disk * r_disk - r_shaft * r_shaft) * thickness -
+                                                    holes * pi * r_hole * r_hole * thickness);
   v.free_volume = v.chamber - v.stirrer;
   return v;
 }
