@@ -532,6 +532,7 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
                        {"outer_torque_Nm", lv.outer_torque_Nm},
                        {"window_s", {lv.t_average, lv.t_end}}});
   j["stirred"] = {{"beads", summary.particles},
+                  {"neighbour_rebuilds", summary.neighbour_rebuilds},
                   {"bead_mass_kg", summary.charge_mass_kg},
                   {"levels", lv_json},
                   {"energy",
