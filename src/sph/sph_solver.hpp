@@ -112,6 +112,20 @@ struct ReadT {
   MILLSIM_HD T operator()(int i) const { return v[i]; }
 };
 
+// Moving boundary particles to their imposed position and velocity. At namespace scope: nvcc
+// rejects a type local to a host function as the argument of a __global__ template.
+template <class T>
+struct PlaceMovingBoundaries {
+  const Vec3<T>* pos0;
+  Vec3<T>* pos;
+  Vec3<T>* vel;
+  const int* code;
+  BoundaryMotion<T> motion;
+  MILLSIM_HD void operator()(int i) const {
+    if (code[i] == kBoundMoving) motion.apply(pos0[i], pos[i], vel[i]);
+  }
+};
+
 template <class Space, class T, int Dim>
 class SphSolver final : public SphEngine {
  public:
@@ -347,17 +361,8 @@ class SphSolver final : public SphEngine {
   }
 
   void placeMovingBoundaries(const SphMotion& m) {
-    struct Place {
-      const Vec3<T>* pos0;
-      Vec3<T>* pos;
-      Vec3<T>* vel;
-      const int* code;
-      BoundaryMotion<T> motion;
-      MILLSIM_HD void operator()(int i) const {
-        if (code[i] == kBoundMoving) motion.apply(pos0[i], pos[i], vel[i]);
-      }
-    };
-    backend::parallelFor(Space{}, m_n, Place{m_pos0.data(), m_pos.data(), m_vel.data(), m_code.data(), motionOf(m)});
+    backend::parallelFor(Space{}, m_n,
+                         PlaceMovingBoundaries<T>{m_pos0.data(), m_pos.data(), m_vel.data(), m_code.data(), motionOf(m)});
   }
 
   // One choice per option, each a compile-time type: the pair loop holds only what is on.
