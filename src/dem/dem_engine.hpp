@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dem/contact/damping.hpp"
+#include "dem/stirrer_state.hpp"
 
 namespace millsim::dem {
 
@@ -22,6 +23,12 @@ struct DemSetup {
   double skin = 0;               // neighbour-list skin [m]
   std::array<double, 3> domain_lo{}, domain_hi{};  // box covering every particle position
   double max_radius = 0;
+  // Stirred mill (StirrerState walls): contact law, collision tallies, lubrication.
+  bool linear_law = false;       // seed 004's linear spring-dashpot instead of Hertz
+  double linear_kn = 0;          // N/m
+  double linear_zeta = 0;        // damping ratio (linearDampingRatio(e))
+  double lubrication_viscosity = 0;  // Pa s; 0: no lubrication stage and no arrays for it
+  double lubrication_inner = 0.001, lubrication_outer = 0.05;
 };
 
 // Plain host copy of the state: what checkpoints, writers and tests read and write.
@@ -71,6 +78,12 @@ class DemEngine {
   // host order, held until the next call and added every step. Their work is booked in
   // DemSums::work_external. Empty vectors switch them off.
   virtual void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) = 0;
+  // Stirred mill: the same step with the stirrer's walls (and lubrication when set up).
+  virtual void initialize(const StirrerState& walls) = 0;
+  virtual void step(const StirrerState& walls, double dt) = 0;
+  virtual StirredSums stirredSums() const = 0;
+  // Per bead, in host numbering: tallies (collision_stats.hpp).
+  virtual void collisionTallies(std::vector<CollisionTally>& out) const = 0;
 };
 
 std::unique_ptr<DemEngine> makeDemEngineOmp(const DemSetup& setup, bool single_precision);

@@ -4,7 +4,10 @@
 // from the half neighbour list (partners j > i); the reaction on j goes through a sink
 // (partner_scatter.hpp) that the backend chooses. Particles are renumbered in cell order at each
 // neighbour rebuild (reorder_kernels.hpp) so a pair's two sides lie close in memory.
+#include <type_traits>
+
 #include "dem/contact/hertz.hpp"
+#include "dem/contact/lubrication.hpp"
 #include "dem/walls/drum_walls.hpp"
 #include "millsim/core/vec3.hpp"
 #include "millsim/neighbors/cell_grid.hpp"
@@ -87,6 +90,7 @@ struct BuildNeighbourList {
   const int* start;  // pass 2 input
   int* list;         // pass 2 output (nullptr in pass 1)
   T skin;
+  T range_factor = T(0);  // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi = pos[i];
     const T ri = radius[i];
@@ -94,7 +98,7 @@ struct BuildNeighbourList {
     const int base = list ? start[i] : 0;
     cells.forEachCandidate(xi, [&](int j) {
       if (j <= i) return;
-      const T reach = ri + radius[j] + skin;
+      const T reach = (T(1) + range_factor) * (ri + radius[j]) + skin;
       if (core::norm2(xi - pos[j]) < reach * reach) {
         if (list) list[base + c] = j;
         ++c;
@@ -114,11 +118,28 @@ struct WallHistory {
   int* overflow;  // set when a particle touches more than kWallSlots walls at once
 };
 
+// ContactForces' pair hook when nothing acts beyond contact (the drum): every use is behind
+// `if constexpr (Extra::kActive)`, so the drum's loop is the same code as without the hook.
+// A hook (collision_stats.hpp: StirredPairExtra) provides pairRange/wallRange, pairLubrication/
+// wallLubrication (forces at a gap and in contact, kLub) and pairContact/wallContact (tallies).
+template <class T>
+struct NoPairExtra {
+  static constexpr bool kActive = false;
+  static constexpr bool kLub = false;
+};
+
+// Walls with still parts (the stirred mill's chamber) book those contacts' torque apart from the
+// moving ones'; Walls::kHasFixedWalls and Walls::isMoving(id) say which (DrumWalls: all moving).
+template <class W, class = void>
+struct HasFixedWalls : std::false_type {};
+template <class W>
+struct HasFixedWalls<W, std::void_t<decltype(W::kHasFixedWalls)>> : std::bool_constant<W::kHasFixedWalls> {};
+
 // The force pass, per particle i: gravity, the drum walls and every pair (i, j > i) of the half
 // list, each evaluated once with the contact law. The force on i is summed in registers; the
 // reaction on j (and half the pair's dissipation) goes to the sink. The pair's elastic energy is
 // booked to i alone: only its total is used, and one scattered add less per pair is measurable.
-template <class T, class Law, class Sink>
+template <class T, class Law, class Sink, class Walls = DrumWalls<T>, class Extra = NoPairExtra<T>>
 struct ContactForces {
   ParticleView<T> p;
   const int* nbr_start;  // particle i's partners: nbr_list[nbr_start[i] .. nbr_start[i + 1])
@@ -133,12 +154,14 @@ struct ContactForces {
   const int* id;
   double* work_external;
   T* drum_torque;   // torque of this particle's wall contacts on the drum about +z, N m
-  DrumWalls<T> walls;
+  Walls walls;
   Law law;
   T wall_mass_factor;
   Vec3<T> gravity;
   T dt;
   Sink sink;
+  Extra extra{};
+  T* fixed_wall_torque = nullptr;  // HasFixedWalls: torque of the still walls about +z, N m
 
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
@@ -146,6 +169,7 @@ struct ContactForces {
     Vec3<T> f = mi * gravity;
     Vec3<T> tq = core::zero3<T>();
     T diss_rate = T(0), elastic = T(0), drum_tq = T(0), power_in = T(0);
+    [[maybe_unused]] T fixed_tq = T(0);
 
     const int end = nbr_start[i + 1];
     for (int slot = nbr_start[i]; slot < end; ++slot) {
@@ -156,6 +180,18 @@ struct ContactForces {
       const T dist2 = core::norm2(d);
       if (dist2 >= reach * reach || dist2 <= T(0)) {
         pair_xi[slot] = core::zero3<T>();  // apart: the spring is released
+        if constexpr (Extra::kLub) {
+          const T lub_reach = reach + extra.pairRange(ri, rj);
+          if (dist2 < lub_reach * lub_reach && dist2 > T(0)) {
+            const T dist = std::sqrt(dist2);
+            const Vec3<T> n = (T(1) / dist) * d;
+            const LubricationResult<T> l =
+                extra.pairLubrication(i, n, dist - reach, ri, rj, vi, p.vel[j], wi, p.omega[j]);
+            f += l.force;
+            tq += l.torque_i;
+            sink.addPartner(j, -l.force, l.torque_j, T(0));
+          }
+        }
         continue;
       }
       const T dist = std::sqrt(dist2);
@@ -164,6 +200,7 @@ struct ContactForces {
       const T ai = ri - T(0.5) * delta, aj = rj - T(0.5) * delta;
       const Vec3<T> v_rel = (vi + core::cross(wi, (-ai) * n)) - (p.vel[j] + core::cross(p.omega[j], aj * n));
       Vec3<T> s = pair_xi[slot];
+      [[maybe_unused]] const bool begins = s.x == T(0) && s.y == T(0) && s.z == T(0);
       const T mj = p.mass[j];
       const ContactResult<T> c = law(n, delta, ri * rj / reach, mi * mj / (mi + mj), v_rel, s, dt);
       pair_xi[slot] = s;
@@ -172,6 +209,17 @@ struct ContactForces {
       tq -= ai * nxft;
       diss_rate += T(0.5) * c.dissipation_rate;
       elastic += c.elastic_energy;
+      if constexpr (Extra::kActive) {
+        extra.pairContact(i, n, ri, rj, mi, vi, p.vel[j], wi, p.omega[j], v_rel, c, begins);
+        if constexpr (Extra::kLub) {
+          // In contact the film acts at the regularised inner cutoff (lubrication.hpp).
+          const LubricationResult<T> l = extra.pairLubrication(i, n, -delta, ri, rj, vi, p.vel[j], wi, p.omega[j]);
+          f += l.force;
+          tq += l.torque_i;
+          sink.addPartner(j, -c.force - l.force, l.torque_j - (aj * nxft), T(0.5) * c.dissipation_rate * dt);
+          continue;
+        }
+      }
       // On j: -F, and the torque -aj (n_j x F_t,j) with n_j = -n, F_t,j = -F_t.
       sink.addPartner(j, -c.force, -(aj * nxft), T(0.5) * c.dissipation_rate * dt);
     }
@@ -185,7 +233,20 @@ struct ContactForces {
       ++n_old;
     }
     int n_new = 0;
-    walls.forEachContact(xi_pos, ri, [&](const WallContact<T>& w) {
+    // With lubrication the walls report gaps up to its range too (delta > -range).
+    T wall_range = T(0);
+    if constexpr (Extra::kLub) wall_range = extra.wallRange(ri);
+    walls.forEachContact(xi_pos, ri + wall_range, [&](const WallContact<T>& w_in) {
+      WallContact<T> w = w_in;
+      if constexpr (Extra::kLub) {
+        w.delta -= wall_range;
+        const LubricationResult<T> l = extra.wallLubrication(i, w.n, -w.delta, ri, vi - w.velocity, wi);
+        f += l.force;
+        tq += l.torque_i;
+        power_in += core::dot(l.force, w.velocity);
+        bookWallTorque(w, l.force, drum_tq, fixed_tq);
+        if (w.delta <= T(0)) return;  // a film, no contact
+      }
       const T ai = ri - w.delta;
       const Vec3<T> v_rel = vi + core::cross(wi, (-ai) * w.n) - w.velocity;
       Vec3<T> s = core::zero3<T>();
@@ -203,8 +264,9 @@ struct ContactForces {
       tq += core::cross((-ai) * w.n, c.force_t);
       diss_rate += c.dissipation_rate;
       elastic += c.elastic_energy;
+      if constexpr (Extra::kActive) extra.wallContact(i, c);
       // Reaction on the drum: -F at the contact point; its z-moment drives the shaft torque.
-      drum_tq -= w.point.x * c.force.y - w.point.y * c.force.x;
+      bookWallTorque(w, c.force, drum_tq, fixed_tq);
       power_in += core::dot(c.force, w.velocity);
     });
     for (int q = n_new; q < n_old; ++q) wall_hist.key[i * kWallSlots + q] = kNoPartner;
@@ -220,6 +282,21 @@ struct ContactForces {
     elastic_out[i] = elastic;
     work_in[i] += double(power_in) * double(dt);
     drum_torque[i] = drum_tq;
+    if constexpr (HasFixedWalls<Walls>::value) fixed_wall_torque[i] = fixed_tq;
+  }
+
+  // The z-moment of the reaction -F at the contact point: on the drum (or the stirrer), or on
+  // the still walls when the walls have some.
+  MILLSIM_HD static void bookWallTorque(const WallContact<T>& w, Vec3<T> force, T& moving_tq, T& fixed_tq) {
+    const T m = w.point.x * force.y - w.point.y * force.x;
+    if constexpr (HasFixedWalls<Walls>::value) {
+      if (!Walls::isMoving(w.wall)) {
+        fixed_tq -= m;
+        return;
+      }
+    }
+    (void)fixed_tq;
+    moving_tq -= m;
   }
 };
 

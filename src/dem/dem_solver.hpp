@@ -10,10 +10,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "dem/collision_stats.hpp"
+#include "dem/contact/linear_spring.hpp"
 #include "dem/dem_engine.hpp"
 #include "dem/dem_kernels.hpp"
 #include "dem/partner_scatter.hpp"
 #include "dem/reorder_kernels.hpp"
+#include "dem/walls/stirrer_walls.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 
@@ -63,6 +66,19 @@ struct Speed {
   MILLSIM_HD double operator()(int i) const { return std::sqrt(double(core::norm2(v[i]))); }
 };
 
+struct ReadTally {
+  const CollisionTally* t;
+  int field;  // 0..3 dissipated by mode, 4 normal, 5 wall, 6..9 energy, 10 collisions
+  MILLSIM_HD double operator()(int i) const {
+    const CollisionTally& c = t[i];
+    if (field < 4) return c.dissipated[field];
+    if (field == 4) return c.dissipated_normal;
+    if (field == 5) return c.dissipated_wall;
+    if (field < 10) return c.energy[field - 6];
+    return c.collisions;
+  }
+};
+
 template <class U>
 struct Copy {
   const U* src;
@@ -78,7 +94,15 @@ class DemSolver final : public DemEngine {
     m_law.k_coef = T(setup.k_coef);
     m_law.alpha = T(setup.alpha);
     m_law.friction = T(setup.friction);
-    const T cell = T(2 * setup.max_radius + setup.skin);
+    m_linear.kn = T(setup.linear_kn);
+    m_linear.zeta = T(setup.linear_zeta);
+    m_linear.friction = T(setup.friction);
+    m_lub.viscosity = T(setup.lubrication_viscosity);
+    m_lub.inner = T(setup.lubrication_inner);
+    m_lub.outer = T(setup.lubrication_outer);
+    // Lubrication acts at gaps up to outer (r_i + r_j): the cells and the list reach that far.
+    const double range_factor = lubricated() ? setup.lubrication_outer : 0.0;
+    const T cell = T(2 * setup.max_radius * (1 + range_factor) + setup.skin);
     m_cells.setGrid(neighbors::makeGrid<T>(toVec(setup.domain_lo), toVec(setup.domain_hi), cell, false));
   }
 
@@ -127,6 +151,10 @@ class DemSolver final : public DemEngine {
     m_scratch_vec.resize(n, core::zero3<T>());
     m_scratch_vec_w.resize(n * kWallSlots, core::zero3<T>());
     m_old_of_new.resize(n, 0);
+    // Stirred-mill arrays exist only once a stirred step runs (allocateStirred).
+    m_tally.resize(0);
+    m_lub_dissipated.resize(0);
+    m_fixed_torque.resize(0);
   }
 
   void getState(DemHostState& s) const override {
@@ -205,8 +233,46 @@ class DemSolver final : public DemEngine {
     m_wall_key.swap(wall_key);
   }
 
-  void step(const DrumState& walls, double dt_in) override {
-    const T dt = T(dt_in);
+  void initialize(const StirrerState& walls) override {
+    allocateStirred();
+    rebuildNeighbours();
+    computeForces(walls, T(0));
+  }
+
+  void step(const StirrerState& walls, double dt_in) override { stepWith(walls, T(dt_in)); }
+
+  StirredSums stirredSums() const override {
+    StirredSums s;
+    if (m_tally.size() != static_cast<std::size_t>(m_n)) return s;
+    s.stirrer_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_drum_torque.data()});
+    s.outer_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_fixed_torque.data()});
+    if (lubricated())
+      s.lubrication_dissipated = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_lub_dissipated.data()});
+    double v[11];
+    for (int f = 0; f < 11; ++f) v[f] = backend::reduceSum<double>(Space{}, m_n, ReadTally{m_tally.data(), f});
+    for (int q = 0; q < kModeCount; ++q) {
+      s.totals.dissipated[q] = v[q];
+      s.totals.energy[q] = v[6 + q];
+    }
+    s.totals.dissipated_normal = v[4];
+    s.totals.dissipated_wall = v[5];
+    s.totals.collisions = v[10];
+    return s;
+  }
+
+  void collisionTallies(std::vector<CollisionTally>& out) const override {
+    std::vector<CollisionTally> t;
+    std::vector<int> id;
+    m_tally.copyToHost(t);
+    m_id.copyToHost(id);
+    out.assign(t.size(), CollisionTally{});
+    for (std::size_t i = 0; i < t.size(); ++i) out[static_cast<std::size_t>(id[i])] = t[i];
+  }
+
+  void step(const DrumState& walls, double dt_in) override { stepWith(walls, T(dt_in)); }
+
+  template <class Walls>
+  void stepWith(const Walls& walls, T dt) {
     backend::parallelFor(Space{}, m_n, KickDrift<T>{view(), dt});
     const T half_skin = T(0.5 * m_setup.skin);
     const T moved2 = backend::reduceMax<T>(Space{}, m_n, T(0), DisplacementSq<T>{m_pos.data(), m_pos_ref.data()});
@@ -250,6 +316,8 @@ class DemSolver final : public DemEngine {
             {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_int_w.bytes() + m_scratch_real.bytes() +
                                         m_scratch_double.bytes() + m_scratch_vec.bytes() + m_scratch_vec_w.bytes() +
                                         m_old_of_new.bytes()},
+            {"dem.collision_stats", m_tally.bytes() + m_fixed_torque.bytes() + m_scratch_tally.bytes()},
+            {"dem.lubrication", m_lub_dissipated.bytes()},
             {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
                               m_old_list.bytes() + m_pos_ref.bytes()}};
   }
@@ -345,6 +413,8 @@ class DemSolver final : public DemEngine {
     gather(m_overflow, m_scratch_int, order, 1);
     gather(m_wall_key, m_scratch_int_w, order, kWallSlots);
     gather(m_wall_xi, m_scratch_vec_w, order, kWallSlots);
+    if (m_tally.size() == static_cast<std::size_t>(m_n)) gather(m_tally, m_scratch_tally, order, 1);
+    if (m_lub_dissipated.size() == static_cast<std::size_t>(m_n)) gather(m_lub_dissipated, m_scratch_double, order, 1);
     // Keep the order, then tell the cell list its particles now are in sorted order.
     backend::parallelFor(Space{}, m_n, Copy<int>{order, m_old_of_new.data()});
     m_cells.renumberedInOrder();
@@ -374,6 +444,7 @@ class DemSolver final : public DemEngine {
     if (m_nbr_start.size() != static_cast<std::size_t>(m_n) + 1) m_nbr_start.resize(m_n + 1, 0);
     BuildNeighbourList<T> build{m_cells.view(),     m_pos.data(), m_radius.data(), m_pos_ref.data(),
                                 m_nbr_count.data(), nullptr,      nullptr,         T(m_setup.skin)};
+    build.range_factor = T(lubricated() ? m_setup.lubrication_outer : 0.0);
     backend::parallelFor(Space{}, m_n, build);
     const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_nbr_start.data(), m_n);
     if (m_nbr_list.size() < total) {
@@ -448,7 +519,96 @@ class DemSolver final : public DemEngine {
       launchForces(walls, dt, HertzMindlin<T, FrictionSmoothing::kNone>{m_law});
   }
 
+  bool lubricated() const { return m_setup.lubrication_viscosity > 0; }
+
+  void allocateStirred() {
+    const std::size_t n = static_cast<std::size_t>(m_n);
+    if (m_tally.size() != n) m_tally.resize(n, CollisionTally{});
+    if (m_scratch_tally.size() != n) m_scratch_tally.resize(n, CollisionTally{});
+    if (m_fixed_torque.size() != n) m_fixed_torque.resize(n, T(0));
+    if (lubricated() && m_lub_dissipated.size() != n) m_lub_dissipated.resize(n, 0.0);
+  }
+
+  static StirrerWalls<T> stirrerWalls(const StirrerState& w) {
+    if (w.disk_count > kMaxDisks || static_cast<int>(w.disk_z.size()) != w.disk_count)
+      throw core::InputError("stirrer: " + std::to_string(w.disk_count) + " disks, at most " +
+                             std::to_string(kMaxDisks) + " are supported");
+    if (w.hole_count > kMaxHoles)
+      throw core::InputError("stirrer: " + std::to_string(w.hole_count) + " holes per disk, at most " +
+                             std::to_string(kMaxHoles) + " are supported");
+    StirrerWalls<T> s{};
+    s.radius = T(w.radius);
+    s.length = T(w.length);
+    s.shaft_radius = T(w.shaft_radius);
+    s.omega = T(w.omega);
+    s.disk_count = w.disk_count;
+    s.disk_radius = T(w.disk_radius);
+    s.disk_half_thickness = T(0.5 * w.disk_thickness);
+    for (int k = 0; k < w.disk_count; ++k) s.disk_z[k] = T(w.disk_z[k]);
+    s.hole_count = w.hole_count;
+    s.hole_radius = T(w.hole_radius);
+    s.hole_ring_radius = T(w.hole_ring_radius);
+    const double spacing = 2.0 * std::acos(-1.0) / std::max(1, w.hole_count);
+    for (int m = 0; m < w.hole_count; ++m) {
+      s.hole_cos[m] = T(std::cos(w.phi + m * spacing));
+      s.hole_sin[m] = T(std::sin(w.phi + m * spacing));
+    }
+    return s;
+  }
+
+  template <class Law, class Extra>
+  void launchStirred(const StirrerWalls<T>& walls, T dt, Law law, Extra extra) {
+    backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
+    const PartnerTargets<T> targets{m_force.data(), m_torque.data(), m_dissipated.data()};
+    const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
+    m_scatter.run(m_n, targets, [&](auto sink) {
+      return ContactForces<T, Law, decltype(sink), StirrerWalls<T>, Extra>{view(),
+                                                                           m_nbr_start.data(),
+                                                                           m_nbr_list.data(),
+                                                                           m_pair_xi.data(),
+                                                                           wall_hist,
+                                                                           m_work_in.data(),
+                                                                           m_elastic.data(),
+                                                                           nullptr,  // no external loads
+                                                                           nullptr,
+                                                                           m_id.data(),
+                                                                           nullptr,
+                                                                           m_drum_torque.data(),
+                                                                           walls,
+                                                                           law,
+                                                                           T(m_setup.wall_mass_factor),
+                                                                           toVec(m_setup.gravity),
+                                                                           dt,
+                                                                           sink,
+                                                                           extra,
+                                                                           m_fixed_torque.data()};
+    });
+  }
+
+  template <class Law>
+  void launchStirredLaw(const StirrerWalls<T>& walls, T dt, Law law) {
+    if (lubricated())
+      launchStirred(walls, dt, law,
+                    StirredPairExtra<T, true>{JeffreyOnishi<T>{m_lub}, m_tally.data(), m_lub_dissipated.data(), dt});
+    else
+      launchStirred(walls, dt, law, StirredPairExtra<T, false>{JeffreyOnishi<T>{m_lub}, m_tally.data(), nullptr, dt});
+  }
+
+  void computeForces(const StirrerState& state, T dt) {
+    allocateStirred();
+    const StirrerWalls<T> walls = stirrerWalls(state);
+    if (m_setup.linear_law)
+      launchStirredLaw(walls, dt, LinearSpringDashpot<T>{m_linear});
+    else
+      launchStirredLaw(walls, dt, HertzMindlin<T, FrictionSmoothing::kNone>{m_law});
+  }
+
   DemSetup m_setup;
+  LinearSpringParams<T> m_linear;
+  LubricationParams<T> m_lub;
+  backend::Array<Space, CollisionTally> m_tally, m_scratch_tally;
+  backend::Array<Space, double> m_lub_dissipated;
+  backend::Array<Space, T> m_fixed_torque;
   HertzParams<T> m_law;
   int m_n = 0;
   std::int64_t m_rebuilds = 0;

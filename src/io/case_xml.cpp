@@ -131,6 +131,7 @@ struct ElementSpec {
   FlagRef present = nullptr;  // set to whether the element is in the case (effect switches)
   std::string description;
   std::string required_with = "";  // required when this element (an effect) is in the case
+  std::string unless = "";         // ... but not when this element is there instead
 
   std::string tag() const {
     if (path.empty()) return kRootTag;
@@ -262,7 +263,8 @@ Schema buildSchema() {
        "Contact material and law of the balls (walls are the same steel). Its presence enables "
        "the DEM effect: a case without this element has no balls."},
       {"drum", false, [](Scene& sc) -> bool& { return sc.has_drum; },
-       "The rotating drum: geometry and speed. Required with <dem>.", "dem"},
+       "The rotating drum: geometry and speed. Required with <dem> unless the case has a <stirrer>.", "dem",
+       "stirrer"},
       {"drum.lifters", false, nullptr, "Box lifters on the drum shell, evenly spaced."},
       {"charge", false, nullptr,
        "Ball charge: Bond equilibrium distribution y = (x / B)^bond_exponent over the classes "
@@ -285,6 +287,16 @@ Schema buildSchema() {
        "Rectangular tank of boundary particles (DBC) around [min, max], open at the top unless "
        "closed; may rotate about z through its centre."},
       {"probes", false, nullptr, "Points where the fluid pressure is written to series.csv."},
+      {"stirrer", false, [](Scene& sc) -> bool& { return sc.has_stirrer; },
+       "Horizontal stirred media mill (seed 004, LabStar LS1-like): a still chamber (cylinder about z, end "
+       "plates at z = 0 and chamber_length) and a stirrer turning about +z (a shaft over the whole length with "
+       "disk_count evenly spaced perforated disks). Replaces <drum>; the beads come from <beads>."},
+      {"beads", false, nullptr, "Grinding beads of the stirred mill, placed at random sites of a close-packed lattice."},
+      {"lubrication", false, nullptr,
+       "Pairwise hydrodynamic lubrication (Jeffrey-Onishi, seed 004 eqs. 5-11) between beads and with the walls "
+       "(stirred mill). viscosity = 0: no lubrication at all."},
+      {"collisions", false, nullptr,
+       "Collision analysis of the stirred mill: Beinert typology, 9 regions, coarse-grained velocity field."},
   };
 
   s.attributes = {
@@ -540,6 +552,76 @@ Schema buildSchema() {
       number("slurry", "filling", "", range('(', 0, 0.9, ']'), [](Scene& sc) -> double& { return sc.slurry.filling; },
              "Slurry volume / drum volume (paper: 0.2: the charge fills half the mill, the balls 30%)."),
 
+      choice("dem", "law", {"hertz", "linear"}, [](Scene& sc) -> std::string& { return sc.dem.law; },
+             "Contact law: hertz (Hertz-Mindlin, the drum's) or linear (seed 004's linear spring-dashpot, stirred "
+             "mill only)."),
+      number("dem", "linear_stiffness", "N/m", above(0),
+             [](Scene& sc) -> double& { return sc.dem.linear_stiffness; },
+             "k_n of the linear law (k_t = 2/7 k_n); see docs/cases.md for the stirred mill's choice."),
+
+      number("stirrer", "chamber_diameter", "m", above(0),
+             [](Scene& sc) -> double& { return sc.stirrer.chamber_diameter; }, "Inner diameter of the chamber."),
+      number("stirrer", "chamber_length", "m", above(0),
+             [](Scene& sc) -> double& { return sc.stirrer.chamber_length; }, "Inner length of the chamber."),
+      number("stirrer", "shaft_diameter", "m", above(0),
+             [](Scene& sc) -> double& { return sc.stirrer.shaft_diameter; }, "Shaft diameter."),
+      integer("stirrer", "disk_count", "", range('[', 0, 16, ']'),
+              [](Scene& sc) -> int& { return sc.stirrer.disk_count; },
+              "Disks, centred at chamber_length (k + 1/2) / disk_count."),
+      number("stirrer", "disk_diameter", "m", above(0),
+             [](Scene& sc) -> double& { return sc.stirrer.disk_diameter; }, "Disk diameter, < chamber_diameter."),
+      number("stirrer", "disk_thickness", "m", above(0),
+             [](Scene& sc) -> double& { return sc.stirrer.disk_thickness; }, "Disk thickness."),
+      integer("stirrer", "hole_count", "", range('[', 0, 32, ']'),
+              [](Scene& sc) -> int& { return sc.stirrer.hole_count; }, "Axial holes per disk, evenly spaced."),
+      number("stirrer", "hole_diameter", "m", atLeast(0),
+             [](Scene& sc) -> double& { return sc.stirrer.hole_diameter; }, "Hole diameter."),
+      number("stirrer", "hole_ring_diameter", "m", atLeast(0),
+             [](Scene& sc) -> double& { return sc.stirrer.hole_ring_diameter; },
+             "Diameter of the circle through the hole centres."),
+      text("stirrer", "speeds_rpm", [](Scene& sc) -> std::string& { return sc.stirrer.speeds_rpm; },
+           "Speed program: rpm values separated by blanks, each held for `hold` (seed: 1000 to 4000 in 500 rpm "
+           "steps)."),
+      number("stirrer", "hold", "s", above(0), [](Scene& sc) -> double& { return sc.stirrer.hold; },
+             "Time at each speed (after its ramp); the run ends after the last hold or at time.end if sooner."),
+      number("stirrer", "ramp", "s", atLeast(0), [](Scene& sc) -> double& { return sc.stirrer.ramp; },
+             "Linear ramp from the previous speed (from rest for the first)."),
+      number("stirrer", "average_from", "", range('[', 0, 1, ')'),
+             [](Scene& sc) -> double& { return sc.stirrer.average_from; },
+             "Power and torques are averaged over the part of each hold after this fraction (steady state)."),
+      number("stirrer", "idle_power_W", "W", atLeast(0),
+             [](Scene& sc) -> double& { return sc.stirrer.idle_power_W; },
+             "No-load power P_0 at every speed; net power P_n = P - P_0 (DEM beads only: 0)."),
+
+      integer("beads", "count", "", above(0), [](Scene& sc) -> int& { return sc.beads.count; },
+              "Number of beads (seed: ~128 000)."),
+      number("beads", "diameter", "m", above(0), [](Scene& sc) -> double& { return sc.beads.diameter; },
+             "Bead diameter (smallest when diameter_max is given; seed: 1.8 mm)."),
+      number("beads", "diameter_max", "m", atLeast(0), [](Scene& sc) -> double& { return sc.beads.diameter_max; },
+             "Largest diameter (uniform in [diameter, diameter_max]); 0: all of `diameter`."),
+      number("beads", "lattice_factor", "", atLeast(1),
+             [](Scene& sc) -> double& { return sc.beads.lattice_factor; },
+             "Spacing of the placement lattice / largest diameter."),
+      seed("beads", "seed", [](Scene& sc) -> std::uint64_t& { return sc.beads.seed; }, "Seed of the placement."),
+
+      number("lubrication", "viscosity", "Pa s", atLeast(0),
+             [](Scene& sc) -> double& { return sc.lubrication.viscosity; },
+             "Fluid viscosity eta_f of the lubrication forces; 0: off (no lubrication stage, no arrays)."),
+      number("lubrication", "inner", "", above(0), [](Scene& sc) -> double& { return sc.lubrication.inner; },
+             "Inner cutoff / d_ij: closer gaps (and overlaps) are evaluated at it (seed: 0.001)."),
+      number("lubrication", "outer", "", above(0), [](Scene& sc) -> double& { return sc.lubrication.outer; },
+             "Outer cutoff / d_ij: no force beyond (seed: 0.05); must exceed inner."),
+
+      number("collisions", "start", "s", atLeast(0), [](Scene& sc) -> double& { return sc.collisions.start; },
+             "Collision statistics and velocity field from this time on."),
+      number("collisions", "sample_every", "s", above(0),
+             [](Scene& sc) -> double& { return sc.collisions.sample_every; },
+             "Interval between velocity-field samples."),
+      integer("collisions", "grid_radial", "", atLeast(2), [](Scene& sc) -> int& { return sc.collisions.grid_radial; },
+              "Velocity-field cells across the chamber diameter (x and y)."),
+      integer("collisions", "grid_axial", "", atLeast(1), [](Scene& sc) -> int& { return sc.collisions.grid_axial; },
+              "Velocity-field cells along the axis."),
+
       text("probes", "points", [](Scene& sc) -> std::string& { return sc.probes.points; },
            "Named points 'name:x,y[,z];...' (m) whose Shepard-interpolated fluid pressure goes to series.csv "
            "as p_<name>_Pa."),
@@ -583,6 +665,43 @@ Schema buildSchema() {
          const double limit = sc.drum.diameter / 4.0;
          if (sc.drum.lifters.height < limit) return {};
          return "must be < drum.diameter / 4 = " + formatNumber(limit) + " (m)";
+       }},
+      {"stirrer", "disk_diameter",
+       "`stirrer.shaft_diameter` < `stirrer.disk_diameter` < `stirrer.chamber_diameter`; the holes lie inside the "
+       "disk (`hole_ring_diameter` + `hole_diameter` < `disk_diameter`, `hole_ring_diameter` - `hole_diameter` > "
+       "`shaft_diameter`)",
+       [](const Scene& sc) -> std::string {
+         if (!sc.has_stirrer) return {};
+         const auto& st = sc.stirrer;
+         if (!(st.shaft_diameter < st.disk_diameter && st.disk_diameter < st.chamber_diameter))
+           return "must lie between stirrer.shaft_diameter and stirrer.chamber_diameter";
+         if (st.hole_count > 0 && !(st.hole_ring_diameter + st.hole_diameter < st.disk_diameter &&
+                                    st.hole_ring_diameter - st.hole_diameter > st.shaft_diameter))
+           return "must hold the holes: hole_ring_diameter +- hole_diameter must lie within (shaft, disk) diameters";
+         return {};
+       }},
+      {"stirrer", "speeds_rpm", "`stirrer.speeds_rpm`: one or more numbers >= 0",
+       [](const Scene& sc) -> std::string {
+         if (!sc.has_stirrer) return {};
+         std::istringstream in(sc.stirrer.speeds_rpm);
+         double v = 0;
+         int n = 0;
+         while (in >> v) {
+           if (!(v >= 0)) return "must hold rpm values >= 0";
+           ++n;
+         }
+         if (!in.eof() || n == 0) return "must be rpm values separated by blanks, e.g. \"1000 1500 2000\"";
+         return {};
+       }},
+      {"lubrication", "outer", "`lubrication.inner` < `lubrication.outer` <= 0.5",
+       [](const Scene& sc) -> std::string {
+         if (sc.lubrication.inner < sc.lubrication.outer && sc.lubrication.outer <= 0.5) return {};
+         return "must be > lubrication.inner and <= 0.5";
+       }},
+      {"stirrer", "chamber_diameter", "<stirrer> and <drum> exclude each other; <stirrer> needs dem.law = linear or hertz",
+       [](const Scene& sc) -> std::string {
+         if (sc.has_stirrer && sc.has_drum) return "<stirrer> replaces <drum>: give one of them";
+         return {};
        }},
       {"charge", "min_size", "`charge.min_size` <= `charge.top_size`",
        [](const Scene& sc) -> std::string {
@@ -775,7 +894,8 @@ class CaseReader {
 
     readElement(*m_doc.RootElement(), *schema().element(""), scene);
     for (const auto& e : schema().elements)
-      if (!e.required_with.empty() && m_read.count(e.required_with) && !m_read.count(e.path))
+      if (!e.required_with.empty() && m_read.count(e.required_with) && !m_read.count(e.path) &&
+          (e.unless.empty() || !m_read.count(e.unless)))
         failElement(*m_read.at(e.required_with), "<" + schema().element(e.required_with)->tag() + "> needs a <" +
                                                      e.tag() + "> element in the case");
     if (m_read.count("sph") && !m_read.count("dem") && !m_read.count("fluid"))
@@ -1150,7 +1270,7 @@ std::string describeCaseFormat() {
     for (std::string p = e.path; !p.empty(); p = s.element(p)->parent())
       nested = "<" + s.element(p)->tag() + ">" + nested;
     md << "| `" << (e.path.empty() ? "<millsim>" : "<millsim>" + nested) << "` | "
-       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | " << (e.required ? "yes" : e.required_with.empty() ? "no" : "with <" + s.element(e.required_with)->tag() + ">")
+       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | " << (e.required ? "yes" : e.required_with.empty() ? "no" : "with <" + s.element(e.required_with)->tag() + ">" + (e.unless.empty() ? "" : " unless <" + s.element(e.unless)->tag() + ">"))
        << " | " << markdownCell(e.description) << " |\n";
   }
   md << "\n| Attribute (`--set` path) | Type | Unit | Default | Allowed | Description |\n"

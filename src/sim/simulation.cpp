@@ -23,6 +23,7 @@
 #include "sim/run_outputs.hpp"
 #include "sim/sph_run.hpp"
 #include "sim/wet_mill.hpp"
+#include "sim/stirred_run.hpp"
 
 namespace millsim::sim {
 
@@ -380,6 +381,8 @@ Simulation::Simulation(const scene::Scene& scene, const RunOptions& options) {
     throw core::InputError("--restart: a wet mill (SPH-DEM) cannot restart from a checkpoint yet");
   if (scene.effect_sph && !scene.effect_dem)
     m_sph = std::make_unique<SphRun>(scene, options);
+  else if (scene.has_stirrer)
+    m_stirred = std::make_unique<StirredRun>(scene, options);
   else
     m_impl = std::make_unique<Impl>(scene, options);
 }
@@ -387,6 +390,7 @@ Simulation::~Simulation() = default;
 
 const RunSummary& Simulation::run() {
   if (m_sph) return m_sph->run();
+  if (m_stirred) return m_stirred->run();
   m_impl->run();
   if (m_impl->options.write_outputs)
     writeSummaryJson(fs::path(m_impl->options.out_dir) / "summary.json", m_impl->summary, stages(), memoryReport(),
@@ -396,6 +400,7 @@ const RunSummary& Simulation::run() {
 
 std::vector<std::string> Simulation::stages() const {
   if (m_sph) return m_sph->stages();
+  if (m_stirred) return m_stirred->stages();
   std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts_and_walls", "dem_kick"};
   if (m_impl->scene.angle.enabled) s.push_back("front_view_frames");
   if (m_impl->scene.effect_sph) {
@@ -407,14 +412,24 @@ std::vector<std::string> Simulation::stages() const {
 }
 
 std::map<std::string, std::size_t> Simulation::memoryReport() const {
+  if (m_stirred) return m_stirred->memoryReport();
   if (m_sph) return m_sph->memoryReport();
   auto memory = m_impl->engine->memoryBytes();
   if (m_impl->wet)
     for (const auto& [group, bytes] : m_impl->wet->memoryBytes()) memory["wet_mill." + group] += bytes;
   return memory;
 }
-const RunSummary& Simulation::summary() const { return m_sph ? m_sph->summary() : m_impl->summary; }
-double Simulation::timeStep() const { return m_sph ? m_sph->timeStep() : m_impl->dt; }
-std::size_t Simulation::particleCount() const { return m_sph ? m_sph->particleCount() : m_impl->charge.state.size(); }
+const RunSummary& Simulation::summary() const {
+  if (m_stirred) return m_stirred->summary();
+  return m_sph ? m_sph->summary() : m_impl->summary;
+}
+double Simulation::timeStep() const {
+  if (m_stirred) return m_stirred->timeStep();
+  return m_sph ? m_sph->timeStep() : m_impl->dt;
+}
+std::size_t Simulation::particleCount() const {
+  if (m_stirred) return m_stirred->particleCount();
+  return m_sph ? m_sph->particleCount() : m_impl->charge.state.size();
+}
 
 }  // namespace millsim::sim

@@ -92,10 +92,10 @@ TEST(CaseXml, EveryShippedCaseParses) {
     ASSERT_NO_THROW(s = loadCaseFile(entry.path().string()));
     EXPECT_EQ(s.name, entry.path().stem().string());  // root name matches the file name
     EXPECT_EQ(s.source, entry.path().string());
-    // A balls case has its drum, a fluid case its fluid.
+    // A balls case has its drum (or its stirred chamber), a fluid case its fluid.
     EXPECT_TRUE(s.effect_dem || s.effect_sph);
     if (s.effect_dem) {
-      EXPECT_TRUE(s.has_drum);
+      EXPECT_TRUE(s.has_drum || s.has_stirrer);
     }
     if (s.effect_sph) {
       EXPECT_TRUE(s.effect_dem ? s.has_slurry : s.has_fluid);
@@ -370,8 +370,8 @@ TEST(CaseXmlErrors, UnknownElement) {
   const Failure f = textFailure(small("<dem/>", "<drums/>"));
   EXPECT_EQ(f.what,
             "t.xml:3: unknown element <drums> under <millsim> (expected one of: time, gravity, "
-            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, slurry, tank, probes); did you "
-            "mean "
+            "output, dem, drum, charge, compaction, angle_of_repose, sph, fluid, slurry, tank, probes, stirrer, "
+            "beads, lubrication, collisions); did you mean "
             "'drum'?");
   const Failure misplaced = textFailure(small("<dem/>", "<lifters/>"));
   EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos)
@@ -542,6 +542,14 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "tank.x_min", "tank.y_min", "tank.z_min", "tank.x_max", "tank.y_max", "tank.z_max", "tank.closed",
       "tank.rotation_rpm", "tank.spin_up",
       "slurry.filling",
+      "dem.law", "dem.linear_stiffness",
+      "stirrer.chamber_diameter", "stirrer.chamber_length", "stirrer.shaft_diameter", "stirrer.disk_count",
+      "stirrer.disk_diameter", "stirrer.disk_thickness", "stirrer.hole_count", "stirrer.hole_diameter",
+      "stirrer.hole_ring_diameter", "stirrer.speeds_rpm", "stirrer.hold", "stirrer.ramp", "stirrer.average_from",
+      "stirrer.idle_power_W",
+      "beads.count", "beads.diameter", "beads.diameter_max", "beads.lattice_factor", "beads.seed",
+      "lubrication.viscosity", "lubrication.inner", "lubrication.outer",
+      "collisions.start", "collisions.sample_every", "collisions.grid_radial", "collisions.grid_axial",
       "probes.points"};
   // clang-format on
   EXPECT_EQ(paths, expected);

@@ -33,6 +33,8 @@ struct DemParams {
   std::string damping = "exact";  // "exact" (Antypov & Elliott 2011) | "dualsphysics"
   std::string friction_smoothing = "none";  // "none" | "tanh" (paper eq. 55: tanh(8 |v_t|))
   double impact_velocity = 2.0;   // m/s, reference speed for the contact time in dt = t_c / N
+  std::string law = "hertz";      // "hertz" | "linear" (seed 004's linear spring-dashpot)
+  double linear_stiffness = 1e5;  // N/m, k_n of the linear law
 };
 
 struct LifterParams {
@@ -134,6 +136,55 @@ struct ProbeParams {
   std::string points;  // "name:x,y[,z];name:x,y[,z]" (m): Shepard-interpolated pressure
 };
 
+// Horizontal stirred media mill (seed 004, a Netzsch LabStar LS1-like chamber; docs/cases.md):
+// a still chamber (cylinder about z from z = 0 to length, two end plates) and a stirrer turning
+// about +z: a shaft over the whole length carrying disk_count perforated disks, evenly spaced,
+// each with hole_count axial holes on a ring. The speed program holds each speed for `hold`
+// after a linear `ramp` from the previous one (from rest for the first).
+struct StirrerParams {
+  double chamber_diameter = 0.090;  // m, inner
+  double chamber_length = 0.143;    // m, inner
+  double shaft_diameter = 0.038;    // m
+  int disk_count = 4;
+  double disk_diameter = 0.076;     // m
+  double disk_thickness = 0.0075;   // m
+  int hole_count = 4;               // per disk
+  double hole_diameter = 0.012;     // m
+  double hole_ring_diameter = 0.058;  // m, circle through the hole centres
+  std::string speeds_rpm = "1000 1500 2000 2500 3000 3500 4000";
+  double hold = 0.0525;             // s at each speed (seed: 52.5 ms simulated per speed)
+  double ramp = 0.0;                // s, linear ramp from the previous speed
+  double average_from = 0.5;        // power averaged over the last (1 - this) of each hold
+  double idle_power_W = 0.0;        // P_0 of the mill without beads (net power = P - P_0)
+};
+
+// Grinding beads for the stirred mill: `count` spheres with diameters uniform in
+// [diameter, diameter_max], placed at random sites of a close-packed lattice in the free space.
+struct BeadParams {
+  int count = 128000;
+  double diameter = 0.0018;      // m
+  double diameter_max = 0.0;     // m; 0: all beads of `diameter`
+  double lattice_factor = 1.02;  // lattice spacing / largest diameter
+  std::uint64_t seed = 1;
+};
+
+// Pairwise hydrodynamic lubrication (Jeffrey-Onishi, seed 004 eqs. 5-11) for beads and walls.
+// viscosity = 0 turns it off entirely: no lubrication stage and no extra arrays.
+struct LubricationSceneParams {
+  double viscosity = 0.0;  // Pa s (seed's eta_f,sim)
+  double inner = 0.001;    // inner cutoff / d_ij (regularised below)
+  double outer = 0.05;     // outer cutoff / d_ij
+};
+
+// Collision analysis of the stirred mill (seed 004 section 3.3): Beinert typology, 9 regions,
+// coarse-grained velocity fields.
+struct CollisionParams {
+  double start = 0.0;       // s: statistics from this time on
+  double sample_every = 2e-4;  // s between velocity-field samples
+  int grid_radial = 24;     // velocity field cells across the chamber diameter (x and y)
+  int grid_axial = 24;      // cells along the axis
+};
+
 struct Scene {
   std::string name = "ball_mill_300_balls";
   std::string source = "<embedded>";  // file the scene came from, for messages
@@ -145,6 +196,7 @@ struct Scene {
   bool effect_dem = true;
   bool effect_sph = false;
   bool has_drum = true, has_tank = false, has_fluid = false, has_slurry = false;
+  bool has_stirrer = false;
   TimeParams time;
   OutputParams output;
   DemParams dem;
@@ -157,6 +209,10 @@ struct Scene {
   FluidBoxParams fluid;
   ProbeParams probes;
   SlurryParams slurry;
+  StirrerParams stirrer;
+  BeadParams beads;
+  LubricationSceneParams lubrication;
+  CollisionParams collisions;
 };
 
 }  // namespace millsim::scene

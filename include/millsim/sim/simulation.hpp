@@ -50,6 +50,7 @@ struct RunSummary {
 };
 
 class SphRun;
+class StirredRun;
 
 class Simulation {
  public:
@@ -72,6 +73,7 @@ class Simulation {
   struct Impl;
   std::unique_ptr<Impl> m_impl;     // balls (DEM) cases
   std::unique_ptr<SphRun> m_sph;    // fluid-only cases
+  std::unique_ptr<StirredRun> m_stirred;  // stirred media mill cases (<stirrer>)
 };
 
 }  // namespace millsim::sim
