@@ -1,5 +1,5 @@
 // millsim command line: run, validate, info, describe, angle-from-dumps, vision angle|slurry,
-// compare-dam-break, calibrate (calibrate_command.cpp).
+// compare-dam-break, calibrate (calibrate_command.cpp), study accuracy.
 // Exit codes: 0 ok, 2 bad input (file:line message; for vision: bad video path, unreadable
 // codec, no mill outline found), 3 the simulation went unstable (cause printed; last good state
 // kept in OUT/), 1 anything else (e.g. a surface that cannot be measured).
@@ -22,6 +22,7 @@
 #include "millsim/io/case_xml.hpp"
 #include "millsim/io/particle_dump.hpp"
 #include "millsim/io/plot_png.hpp"
+#include "millsim/sim/accuracy_study.hpp"
 #include "millsim/sim/martin_moyce.hpp"
 #include "millsim/sim/simulation.hpp"
 #include "millsim/vision/angle_overlay.hpp"
@@ -355,6 +356,15 @@ int main(int argc, char** argv) {
   compare_db->add_option("--g", db_g, "Gravity [m/s^2]");
   compare_db->add_option("--png", db_png, "Write the plot of Z/a against T here");
   compare_db->add_option("--labels", db_labels, "Legend label of each run")->delimiter(',');
+  auto* study = app.add_subcommand("study", "Studies of the solvers");
+  auto* study_accuracy =
+      study->add_subcommand("accuracy", "What accuracy costs in time: error and wall time over settings (CSV, Pareto PNGs)");
+  bool study_quick = false;
+  std::string study_out = "study", study_source = MILLSIM_SOURCE_DIR;
+  study_accuracy->add_flag("--quick", study_quick, "Cheapest levels of each axis (a smoke test)");
+  study_accuracy->add_option("--out", study_out, "Output directory");
+  study_accuracy->add_option("--source", study_source, "Directory holding cases/ (default: the source tree)");
+  study->require_subcommand(1);
   auto* describe = app.add_subcommand("describe", "Print every case-file element and attribute (markdown)");
 
   auto* vision = app.add_subcommand("vision", "Angle of repose and slurry curve from recordings of the mill's window");
@@ -412,6 +422,16 @@ int main(int argc, char** argv) {
       return vision_angle->parsed() ? visionAngleCommand(a) : visionSlurryCommand(a);
     }
     if (compare_db->parsed()) return compareDamBreakCommand(db_dirs, db_a, db_g, db_png, db_labels);
+    if (study_accuracy->parsed()) {
+      const auto rows = millsim::sim::runAccuracyStudy(study_quick, study_source);
+      millsim::sim::writeAccuracyStudy(rows, study_out);
+      nlohmann::ordered_json j = nlohmann::ordered_json::array();
+      for (const auto& r : rows)
+        j.push_back({{"problem", r.problem}, {"axis", r.axis}, {"setting", r.setting}, {"error", r.error},
+                     {"wall_s", r.wall_s}});
+      std::cout << j.dump(1) << std::endl;
+      return 0;
+    }
     if (describe->parsed()) {
       std::cout << millsim::io::describeCaseFormat();
       return 0;

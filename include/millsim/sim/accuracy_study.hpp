@@ -1,0 +1,38 @@
+#pragma once
+// `millsim study accuracy`: what accuracy costs in time. Runs one-factor-at-a-time matrices of
+// settings on reference problems and records, per run, the error against the reference and the
+// wall time, so a user can pick a setting on the Pareto front of (wall time, error).
+//
+// Problems:
+// - dam_break_2d: the Martin & Moyce dam break (cases/dam_break_2d.xml geometry) to T = 2.5;
+//   error = mean |Z_sim - Z_data| / Z_data over M&M's points with T <= 2.5 (raw: no time
+//   shift). Axes: dp, kernel, density diffusion, integrator, CFL.
+// - hertz_impact: a 15 mm steel ball hitting a wall at 1 m/s (the drum's material, e = 0.39);
+//   error = |e_measured - e| / e (exact damping: the law gives e exactly in the dt -> 0 limit).
+//   Axes: time-step divisor
+//   N (dt = t_c / N), Young's modulus (the reduced-stiffness question), precision.
+// --quick keeps each axis to its cheapest levels (CI smoke test).
+#include <string>
+#include <vector>
+
+namespace millsim::sim {
+
+struct StudyRow {
+  std::string problem, axis, setting;
+  double error = 0;
+  double wall_s = 0;
+  double simulated_s = 0;
+  long long particles = 0, steps = 0;
+  std::string backend = "omp";
+};
+
+std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir);
+
+// OUT/accuracy_cost.csv and one Pareto plot per problem (OUT/pareto_<problem>.png).
+void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& out_dir);
+
+// Indices of the rows of one problem on the Pareto front (no other row is both faster and
+// more accurate), sorted by wall time.
+std::vector<std::size_t> paretoFront(const std::vector<StudyRow>& rows, const std::string& problem);
+
+}  // namespace millsim::sim

@@ -1,0 +1,204 @@
+#include "millsim/sim/accuracy_study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "dem/contact/damping.hpp"
+#include "dem/dem_engine.hpp"
+#include "millsim/io/case_xml.hpp"
+#include "millsim/io/plot_png.hpp"
+#include "millsim/sim/martin_moyce.hpp"
+#include "sim/sph_setup.hpp"
+
+namespace millsim::sim {
+
+namespace {
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+StudyRow damBreak(const std::string& source_dir, const std::string& axis, const std::string& setting,
+                  const std::vector<std::string>& sets) {
+  const double a = 0.05715, g = 9.81, t_end = 2.5 / std::sqrt(2 * g / a) + 1e-3;
+  std::vector<std::string> all = sets;
+  all.push_back("output.fields_every=0");
+  const scene::Scene sc = io::loadCaseFile(source_dir + "/cases/dam_break_2d.xml", all);
+  const sph::SphSetup setup = sphSetupOf(sc);
+  auto engine = sph::makeSphEngineOmp(setup);
+  const sph::SphHostState particles = sphParticlesOf(sc, setup);
+  engine->setState(particles);
+  engine->initialize({});
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<double> ts{0.0}, xs{engine->sums().max_x};
+  double t = 0;
+  long long steps = 0;
+  while (t < t_end) {
+    const double dt = std::min(engine->nextDt(), t_end - t);
+    engine->step(dt, {}, {});
+    t += dt;
+    ++steps;
+    ts.push_back(t);
+    xs.push_back(engine->sums().max_x);
+  }
+  StudyRow r;
+  r.problem = "dam_break_2d";
+  r.axis = axis;
+  r.setting = setting;
+  r.wall_s = seconds(t0);
+  r.simulated_s = t;
+  r.particles = static_cast<long long>(particles.size());
+  r.steps = steps;
+  r.error = compareWithMartinMoyce(ts, xs, a, g).mean_error_raw;
+  return r;
+}
+
+StudyRow hertzImpact(const std::string& axis, const std::string& setting, double divisor, double young, bool single) {
+  const double r = 0.0075, v = 1.0, rho = 7800.92, e = 0.39, nu = 0.29;
+  const auto model = dem::DampingModel::kExact;
+  dem::DemSetup setup;
+  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(young, nu);
+  setup.alpha = dem::dampingAlpha(model, e);
+  setup.wall_mass_factor = dem::wallMassFactor(model);
+  setup.gravity = {0, 0, 0};
+  setup.skin = 0.2 * r;
+  setup.max_radius = r;
+  setup.domain_lo = {-0.05, -0.05, -0.05};
+  setup.domain_hi = {0.05, 0.05, 0.05};
+  auto engine = dem::makeDemEngineOmp(setup, single);
+  const double m = rho * 4.0 / 3.0 * std::acos(-1.0) * r * r * r;
+  dem::DemHostState s;
+  s.pos = {0, 0, 1.05 * r};
+  s.vel = {0, 0, -v};
+  s.omega = {0, 0, 0};
+  s.radius = {r};
+  s.mass = {m};
+  s.inertia = {0.4 * m * r * r};
+  engine->setState(s);
+  dem::DrumState walls;  // the front plate z = 0 as a flat wall, far from everything else
+  walls.radius = 10;
+  walls.z_back = 20;
+  engine->initialize(walls);
+  const double tc = dem::hertzContactTime(m, r, dem::effectiveModulus(young, nu), v);
+  const double dt = tc / divisor;
+  const auto t0 = std::chrono::steady_clock::now();
+  double t = 0, t_in = -1, e_measured = 0, t_contact = 0;
+  bool was_in = false;
+  long long steps = 0;
+  for (; steps < 1000000; ++steps) {
+    engine->step(walls, dt);
+    t += dt;
+    engine->getState(s);
+    const bool in = s.pos[2] < r;
+    if (in && !was_in) t_in = t;
+    if (!in && was_in) {
+      e_measured = s.vel[2] / v;
+      t_contact = t - t_in;
+      break;
+    }
+    was_in = in;
+  }
+  StudyRow row;
+  row.problem = "hertz_impact";
+  row.axis = axis;
+  row.setting = setting;
+  row.wall_s = seconds(t0);
+  row.simulated_s = t;
+  row.particles = 1;
+  row.steps = steps;
+  (void)t_contact;  // with e = 0.39 the damped contact lasts longer than Hertz's elastic t_c
+  row.error = std::abs(e_measured - e) / e;
+  return row;
+}
+
+}  // namespace
+
+std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir) {
+  std::vector<StudyRow> rows;
+  const double a = 0.05715;
+  // Dam break: one factor at a time around a base resolution (a/20 quick, a/40 full).
+  const int base = quick ? 20 : 40;
+  const std::string base_dp = "sph.dp=" + std::to_string(a / base);
+  for (int n : quick ? std::vector<int>{10, 20} : std::vector<int>{20, 40, 80})
+    rows.push_back(damBreak(source_dir, "dp", "a/" + std::to_string(n), {"sph.dp=" + std::to_string(a / n)}));
+  for (const char* k : {"cubic"})
+    rows.push_back(damBreak(source_dir, "kernel", k, {base_dp, std::string("sph.kernel=") + k}));
+  for (const char* d : {"none", "molteni"})
+    rows.push_back(damBreak(source_dir, "ddt", d, {base_dp, std::string("sph.ddt=") + d}));
+  rows.push_back(damBreak(source_dir, "integrator", "symplectic", {base_dp, "sph.integrator=symplectic"}));
+  for (const char* c : quick ? std::vector<const char*>{"0.3"} : std::vector<const char*>{"0.1", "0.3"})
+    rows.push_back(damBreak(source_dir, "cfl", c, {base_dp, std::string("sph.cfl=") + c}));
+  // Hertz impact: dt divisor, stiffness, precision.
+  for (double n : quick ? std::vector<double>{10, 50} : std::vector<double>{10, 20, 50, 100, 400})
+    rows.push_back(hertzImpact("dt_divisor", "t_c/" + std::to_string(int(n)), n, 1e8, false));
+  for (double young : quick ? std::vector<double>{1e7} : std::vector<double>{1e7, 1e9, 2e11})
+  {
+    char label[32];
+    std::snprintf(label, sizeof label, "E = %.0e Pa", young);
+    rows.push_back(hertzImpact("youngs_modulus", label, 50, young, false));
+  }
+  rows.push_back(hertzImpact("precision", "float", 50, 1e8, true));
+  return rows;
+}
+
+std::vector<std::size_t> paretoFront(const std::vector<StudyRow>& rows, const std::string& problem) {
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].problem == problem) idx.push_back(i);
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return rows[a].wall_s < rows[b].wall_s; });
+  std::vector<std::size_t> front;
+  double best = 1e300;
+  for (std::size_t i : idx)
+    if (rows[i].error < best) {
+      best = rows[i].error;
+      front.push_back(i);
+    }
+  return front;
+}
+
+void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& out_dir) {
+  std::filesystem::create_directories(out_dir);
+  const std::string csv = out_dir + "/accuracy_cost.csv";
+  std::ofstream out(csv);
+  if (!out) throw std::runtime_error(csv + ": cannot write");
+  out << "problem,axis,setting,error,wall_s,wall_s_per_simulated_s,particles,steps,backend,pareto\n";
+  std::vector<bool> on_front(rows.size(), false);
+  for (const std::string problem : {"dam_break_2d", "hertz_impact"})
+    for (std::size_t i : paretoFront(rows, problem)) on_front[i] = true;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const StudyRow& r = rows[i];
+    out << r.problem << "," << r.axis << "," << r.setting << "," << r.error << "," << r.wall_s << ","
+        << (r.simulated_s > 0 ? r.wall_s / r.simulated_s : 0.0) << "," << r.particles << "," << r.steps << ","
+        << r.backend << "," << (on_front[i] ? 1 : 0) << "\n";
+  }
+  for (const std::string problem : {"dam_break_2d", "hertz_impact"}) {
+    io::PlotSeries all, front;
+    all.label = "runs (" + problem + ")";
+    all.line = false;
+    all.markers = true;
+    all.rgb = {31, 119, 180};
+    front.label = "Pareto front";
+    front.rgb = {214, 39, 40};
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (rows[i].problem == problem) {
+        all.x.push_back(std::log10(std::max(rows[i].wall_s, 1e-6)));
+        all.y.push_back(100 * rows[i].error);
+      }
+    for (std::size_t i : paretoFront(rows, problem)) {
+      front.x.push_back(std::log10(std::max(rows[i].wall_s, 1e-6)));
+      front.y.push_back(100 * rows[i].error);
+    }
+    io::PlotAxes axes;
+    axes.title = "What accuracy costs: " + problem;
+    axes.x_label = "log10(wall time [s])";
+    axes.y_label = "error [%]";
+    io::writeLinePlot(out_dir + "/pareto_" + problem + ".png", axes, {all, front});
+  }
+}
+
+}  // namespace millsim::sim

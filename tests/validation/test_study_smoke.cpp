@@ -1,0 +1,44 @@
+// Issue 9, Done-when 1: `millsim study accuracy --quick` runs as a smoke test: its numbers are
+// not asserted, only that it writes its outputs and that they are sane (finite errors, positive
+// wall times, a Pareto front per problem, the plots).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+TEST(StudySmoke, QuickAccuracyStudyWritesSaneOutputs) {
+  const auto out = std::filesystem::temp_directory_path() / "millsim_test_study";
+  std::filesystem::remove_all(out);
+  const std::string cmd = std::string(MILLSIM_CLI) + " study accuracy --quick --out " + out.string() +
+                          " --source " + MILLSIM_SOURCE_DIR + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream csv(out / "accuracy_cost.csv");
+  ASSERT_TRUE(csv.good());
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "problem,axis,setting,error,wall_s,wall_s_per_simulated_s,particles,steps,backend,pareto");
+  int rows = 0, front = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 10u) << line;
+    const double error = std::stod(c[3]), wall = std::stod(c[4]);
+    EXPECT_TRUE(std::isfinite(error) && error >= 0) << line;
+    EXPECT_GT(wall, 0) << line;
+    front += c[9] == "1";
+    ++rows;
+  }
+  EXPECT_GE(rows, 10);
+  EXPECT_GE(front, 2);  // at least one point on each problem's front
+  EXPECT_TRUE(std::filesystem::exists(out / "pareto_dam_break_2d.png"));
+  EXPECT_TRUE(std::filesystem::exists(out / "pareto_hertz_impact.png"));
+}
+
+}  // namespace
