@@ -62,6 +62,14 @@ void writeJsonFile(const std::filesystem::path& path, const nlohmann::ordered_js
   std::filesystem::rename(tmp, path);
 }
 
+void markRunEnd(RunSummary& s, const std::string& status, double t, long long steps,
+                std::chrono::steady_clock::time_point wall0) {
+  s.status = status;
+  s.simulated_time_s = t;
+  s.steps = steps;
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+}
+
 void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
                       const std::map<std::string, std::size_t>& memory, const std::string& case_name,
                       const std::string& case_source) {

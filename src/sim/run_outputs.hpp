@@ -34,6 +34,10 @@ void writeJsonFile(const std::filesystem::path& path, const nlohmann::ordered_js
 // A fields snapshot with positions and velocities (3 per particle); callers add their arrays.
 io::FieldFrame fieldFrame(double t, long long step, const std::vector<double>& pos, const std::vector<double>& vel);
 
+// Status, simulated time, steps and wall time since wall0, at the end of a run loop.
+void markRunEnd(RunSummary& s, const std::string& status, double t, long long steps,
+                std::chrono::steady_clock::time_point wall0);
+
 void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
                       const std::map<std::string, std::size_t>& memory, const std::string& case_name,
                       const std::string& case_source);

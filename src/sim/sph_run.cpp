@@ -176,11 +176,8 @@ const RunSummary& SphRun::run() {
   auto finish = [&](const char* status) {
     progress.finish();
     if (m_options.write_outputs) snapshot();
-    m_summary.status = status;
-    m_summary.simulated_time_s = t;
-    m_summary.steps = step;
+    markRunEnd(m_summary, status, t, step, wall0);
     m_summary.dt = dt;
-    m_summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     m_summary.energy_kinetic = now.kinetic;
     m_summary.energy_potential = now.potential;
     if (m_options.write_outputs) writeSummary(now, probe_values);

@@ -419,21 +419,15 @@ void StirredRun::Impl::run() {
     }
   } catch (const core::SimulationError& e) {
     progress.finish();
-    summary.status = "failed";
     summary.error = e.what();
-    summary.simulated_time_s = t;
-    summary.steps = step;
-    summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    markRunEnd(summary, "failed", t, step, wall0);
     if (options.write_outputs)
       writeSummaryJson(out / "summary.json", summary, {}, engine->memoryBytes(), scene.name, scene.source);
     throw;
   }
   progress.finish();
-  summary.status = "ok";
-  summary.simulated_time_s = t;
-  summary.steps = step;
+  markRunEnd(summary, "ok", t, step, wall0);
   summary.neighbour_rebuilds = engine->neighbourRebuilds();
-  summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const dem::DemSums now = engine->sums();
   final_sums = engine->stirredSums();
   book(now, final_sums);
