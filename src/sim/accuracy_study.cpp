@@ -123,9 +123,15 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
   const double a = 0.05715;
   // Dam break: one factor at a time around a base resolution (a/20 quick, a/40 full).
   const int base = quick ? 20 : 40;
-  const std::string base_dp = "sph.dp=" + std::to_string(a / base);
+  // Full precision: std::to_string's 6 decimals would shift dp = a/40 off the shipped case's lattice.
+  auto dp = [a](int n) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "sph.dp=%.17g", a / n);
+    return std::string(buf);
+  };
+  const std::string base_dp = dp(base);
   for (int n : quick ? std::vector<int>{10, 20} : std::vector<int>{20, 40, 80})
-    rows.push_back(damBreak(source_dir, "dp", "a/" + std::to_string(n), {"sph.dp=" + std::to_string(a / n)}));
+    rows.push_back(damBreak(source_dir, "dp", "a/" + std::to_string(n), {dp(n)}));
   for (const char* k : {"cubic"})
     rows.push_back(damBreak(source_dir, "kernel", k, {base_dp, std::string("sph.kernel=") + k}));
   for (const char* d : {"none", "molteni"})
