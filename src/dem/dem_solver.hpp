@@ -483,32 +483,40 @@ class DemSolver final : public DemEngine {
     return d;
   }
 
-  template <class Law>
-  void launchForces(const DrumState& walls, T dt, Law law) {
+  // One contact pass for any walls (drum, stirrer), law and pair hook: clears the sums and runs
+  // ContactForces through the backend's partner sink. External loads only exist in wet runs.
+  template <class Walls, class Law, class Extra = NoPairExtra<T>>
+  void launchContacts(const Walls& walls, T dt, Law law, Extra extra = Extra{}, T* fixed_wall_torque = nullptr) {
     backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
     const PartnerTargets<T> targets{m_force.data(), m_torque.data(), m_dissipated.data()};
     const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
-    const DrumWalls<T> drum = drumWalls(walls);
     m_scatter.run(m_n, targets, [&](auto sink) {
-      return ContactForces<T, Law, decltype(sink)>{view(),
-                                                   m_nbr_start.data(),
-                                                   m_nbr_list.data(),
-                                                   m_pair_xi.data(),
-                                                   wall_hist,
-                                                   m_work_in.data(),
-                                                   m_elastic.data(),
-                                                   m_has_external ? m_ext_force.data() : nullptr,
-                                                   m_ext_torque.data(),
-                                                   m_id.data(),
-                                                   m_work_external.data(),
-                                                   m_drum_torque.data(),
-                                                   drum,
-                                                   law,
-                                                   T(m_setup.wall_mass_factor),
-                                                   toVec(m_setup.gravity),
-                                                   dt,
-                                                   sink};
+      return ContactForces<T, Law, decltype(sink), Walls, Extra>{view(),
+                                                                 m_nbr_start.data(),
+                                                                 m_nbr_list.data(),
+                                                                 m_pair_xi.data(),
+                                                                 wall_hist,
+                                                                 m_work_in.data(),
+                                                                 m_elastic.data(),
+                                                                 m_has_external ? m_ext_force.data() : nullptr,
+                                                                 m_ext_torque.data(),
+                                                                 m_id.data(),
+                                                                 m_work_external.data(),
+                                                                 m_drum_torque.data(),
+                                                                 walls,
+                                                                 law,
+                                                                 T(m_setup.wall_mass_factor),
+                                                                 toVec(m_setup.gravity),
+                                                                 dt,
+                                                                 sink,
+                                                                 extra,
+                                                                 fixed_wall_torque};
     });
+  }
+
+  template <class Law>
+  void launchForces(const DrumState& walls, T dt, Law law) {
+    launchContacts(drumWalls(walls), dt, law);
   }
 
   void computeForces(const DrumState& walls, T dt) {
@@ -558,31 +566,7 @@ class DemSolver final : public DemEngine {
 
   template <class Law, class Extra>
   void launchStirred(const StirrerWalls<T>& walls, T dt, Law law, Extra extra) {
-    backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
-    const PartnerTargets<T> targets{m_force.data(), m_torque.data(), m_dissipated.data()};
-    const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
-    m_scatter.run(m_n, targets, [&](auto sink) {
-      return ContactForces<T, Law, decltype(sink), StirrerWalls<T>, Extra>{view(),
-                                                                           m_nbr_start.data(),
-                                                                           m_nbr_list.data(),
-                                                                           m_pair_xi.data(),
-                                                                           wall_hist,
-                                                                           m_work_in.data(),
-                                                                           m_elastic.data(),
-                                                                           nullptr,  // no external loads
-                                                                           nullptr,
-                                                                           m_id.data(),
-                                                                           nullptr,
-                                                                           m_drum_torque.data(),
-                                                                           walls,
-                                                                           law,
-                                                                           T(m_setup.wall_mass_factor),
-                                                                           toVec(m_setup.gravity),
-                                                                           dt,
-                                                                           sink,
-                                                                           extra,
-                                                                           m_fixed_torque.data()};
-    });
+    launchContacts(walls, dt, law, extra, m_fixed_torque.data());
   }
 
   template <class Law>

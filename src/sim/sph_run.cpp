@@ -175,6 +175,7 @@ const RunSummary& SphRun::run() {
   };
   auto finish = [&](const char* status) {
     progress.finish();
+    now = m_engine->sums();
     if (m_options.write_outputs) snapshot();
     markRunEnd(m_summary, status, t, step, wall0);
     m_summary.dt = dt;
@@ -184,9 +185,9 @@ const RunSummary& SphRun::run() {
   };
   try {
     while (true) {
-      now = m_engine->sums();
-      const long long excluded = now.excluded_density + now.excluded_domain;
-      if (double(excluded) > m_scene.sph.parts_out_max * double(m_fluid0)) {
+      if (double(m_engine->excludedCount()) > m_scene.sph.parts_out_max * double(m_fluid0)) {
+        now = m_engine->sums();
+        const long long excluded = now.excluded_density + now.excluded_domain;
         std::ostringstream m;
         m << "SPH: " << excluded << " of " << m_fluid0 << " fluid particles excluded by t = " << t << " s ("
           << now.excluded_density << " outside density [" << m_setup.rho_min << ", " << m_setup.rho_max << "] kg/m3, "
@@ -195,6 +196,7 @@ const RunSummary& SphRun::run() {
         throw core::SimulationError(m.str());
       }
       if (t >= next_series - 1e-12 * t_end) {
+        now = m_engine->sums();
         for (std::size_t k = 0; k < m_probes.size(); ++k) probe_values[k] = m_engine->probePressure(m_probes[k].x);
         if (series) {
           std::vector<double> row{t,

@@ -152,9 +152,9 @@ void WetMill::advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, 
   const sph::SphMotion end = motionAt(phi, motion.omega(t));
   m_engine->step(dt, end, end);
   ++m_steps;
-  const sph::SphSums now = m_engine->sums();
-  const long long excluded = now.excluded_density + now.excluded_domain;
-  if (double(excluded) > m_scene.sph.parts_out_max * double(m_fluid0)) {
+  if (double(m_engine->excludedCount()) > m_scene.sph.parts_out_max * double(m_fluid0)) {
+    const sph::SphSums now = m_engine->sums();
+    const long long excluded = now.excluded_density + now.excluded_domain;
     std::ostringstream m;
     m << "SPH-DEM: " << excluded << " of " << m_fluid0 << " slurry particles excluded by t = " << t << " s ("
       << now.excluded_density << " by density, " << now.excluded_domain

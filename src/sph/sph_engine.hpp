@@ -84,6 +84,9 @@ class SphEngine {
   // One step of dt; moving boundaries at `half` (symplectic predictor) and `end`.
   virtual void step(double dt, const SphMotion& half, const SphMotion& end) = 0;
   virtual SphSums sums() const = 0;
+  // Fluid particles excluded so far (by density or domain): one reduction, for the per-step
+  // parts_out_max check (sums() runs nine).
+  virtual long long excludedCount() const = 0;
   // Places every body's particles at its centre + offset, with velocity v + omega x offset.
   // Call before step() with the bodies at the end of the step (and once before initialize()).
   virtual void setBodyKinematics(const std::vector<SphBody>& bodies) = 0;

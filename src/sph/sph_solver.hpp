@@ -106,6 +106,11 @@ struct CountInteractions {
   }
 };
 
+struct CountExcluded {
+  const int* code;
+  MILLSIM_HD int operator()(int i) const { return isExcluded(code[i]) ? 1 : 0; }
+};
+
 template <class T>
 struct ReadT {
   const T* v;
@@ -347,6 +352,10 @@ class SphSolver final : public SphEngine {
       l.torque[0] += double(tq.x), l.torque[1] += double(tq.y), l.torque[2] += double(tq.z);
     }
     return loads;
+  }
+
+  long long excludedCount() const override {
+    return backend::reduceSum<int>(Space{}, m_n, CountExcluded{m_code.data()});
   }
 
   double probePressure(const std::array<double, 3>& x_in) const override {
