@@ -67,8 +67,9 @@ MILLSIM_HD inline int dominantMode(const double* e) {
   return k;
 }
 
-// The stirred mill's pair hook: collision tallies always, lubrication when kLubricated.
-template <class T, bool kLubricated>
+// The stirred mill's pair hook: collision tallies when kTally (the case asks for collision
+// statistics), lubrication when kLubricated. With neither the solver uses NoPairExtra instead.
+template <class T, bool kLubricated, bool kTally = true>
 struct StirredPairExtra {
   static constexpr bool kActive = true;
   static constexpr bool kLub = kLubricated;
@@ -96,21 +97,23 @@ struct StirredPairExtra {
   MILLSIM_HD void pairContact(int i, core::Vec3<T> n, T ri, T rj, T mi, core::Vec3<T> vi, core::Vec3<T> vj,
                               core::Vec3<T> wi, core::Vec3<T> wj, core::Vec3<T> v_rel, const ContactResult<T>& c,
                               bool begins) const {
-    const BeinertEnergies<T> b = beinertEnergies(n, ri, rj, mi, vi, vj, wi, wj);
-    double e[kModeCount];
-    for (int q = 0; q < kModeCount; ++q) e[q] = double(b.e[q]);
-    CollisionTally& t = tally[i];
-    const double diss = double(c.dissipation_rate) * double(dt);
-    t.dissipated[dominantMode(e)] += diss;
-    const core::Vec3<T> vt = v_rel - core::dot(v_rel, n) * n;
-    t.dissipated_normal += diss + double(core::dot(c.force_t, vt)) * double(dt);
-    if (begins) {
-      for (int q = 0; q < kModeCount; ++q) t.energy[q] += e[q];
-      t.collisions += 1.0;
+    if constexpr (kTally) {
+      const BeinertEnergies<T> b = beinertEnergies(n, ri, rj, mi, vi, vj, wi, wj);
+      double e[kModeCount];
+      for (int q = 0; q < kModeCount; ++q) e[q] = double(b.e[q]);
+      CollisionTally& t = tally[i];
+      const double diss = double(c.dissipation_rate) * double(dt);
+      t.dissipated[dominantMode(e)] += diss;
+      const core::Vec3<T> vt = v_rel - core::dot(v_rel, n) * n;
+      t.dissipated_normal += diss + double(core::dot(c.force_t, vt)) * double(dt);
+      if (begins) {
+        for (int q = 0; q < kModeCount; ++q) t.energy[q] += e[q];
+        t.collisions += 1.0;
+      }
     }
   }
   MILLSIM_HD void wallContact(int i, const ContactResult<T>& c) const {
-    tally[i].dissipated_wall += double(c.dissipation_rate) * double(dt);
+    if constexpr (kTally) tally[i].dissipated_wall += double(c.dissipation_rate) * double(dt);
   }
 };
 

@@ -29,6 +29,7 @@ struct DemSetup {
   double linear_zeta = 0;        // damping ratio (linearDampingRatio(e))
   double lubrication_viscosity = 0;  // Pa s; 0: no lubrication stage and no arrays for it
   double lubrication_inner = 0.001, lubrication_outer = 0.05;
+  bool collision_stats = true;  // Beinert tallies per contact (a <collisions> element); off: no tally arrays
 };
 
 // Plain host copy of the state: what checkpoints, writers and tests read and write.
@@ -58,6 +59,7 @@ struct DemSums {
   double max_speed = 0;    // m/s
   double mass = 0;         // kg, total
   double com_x = 0, com_y = 0;  // centre of mass in the front view, m (the gravity moment's arm)
+  double pair_contacts = 0;    // particle pairs overlapping now (coordination number = 2 x this / N)
 };
 
 class DemEngine {

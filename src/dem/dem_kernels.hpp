@@ -51,7 +51,9 @@ struct Kick {
   }
 };
 
-// First half-kick and drift: v += dt/2 a(t), x += dt v.
+// First half-kick and drift: v += dt/2 a(t), x += dt v. The force and torque sums are used up
+// here, so they are cleared for the coming contact pass in the same sweep (one pass over the
+// particles less per step).
 template <class T>
 struct KickDrift {
   ParticleView<T> p;
@@ -59,6 +61,8 @@ struct KickDrift {
   MILLSIM_HD void operator()(int i) const {
     Kick<T>{p, dt}(i);
     p.pos[i] += dt * p.vel[i];
+    p.force[i] = core::zero3<T>();
+    p.torque[i] = core::zero3<T>();
   }
 };
 

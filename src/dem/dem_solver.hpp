@@ -31,6 +31,23 @@ struct KineticEnergy {
   }
 };
 
+// Pairs of i's half-list slots that overlap now (dist < ri + rj).
+template <class T>
+struct PairContactCount {
+  ParticleView<T> p;
+  const int* nbr_start;
+  const int* nbr_list;
+  MILLSIM_HD double operator()(int i) const {
+    int c = 0;
+    for (int slot = nbr_start[i]; slot < nbr_start[i + 1]; ++slot) {
+      const int j = nbr_list[slot];
+      const T reach = p.radius[i] + p.radius[j];
+      if (core::norm2(p.pos[i] - p.pos[j]) < reach * reach) ++c;
+    }
+    return double(c);
+  }
+};
+
 template <class T>
 struct PotentialEnergy {
   ParticleView<T> p;
@@ -243,11 +260,12 @@ class DemSolver final : public DemEngine {
 
   StirredSums stirredSums() const override {
     StirredSums s;
-    if (m_tally.size() != static_cast<std::size_t>(m_n)) return s;
+    if (m_fixed_torque.size() != static_cast<std::size_t>(m_n)) return s;
     s.stirrer_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_drum_torque.data()});
     s.outer_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_fixed_torque.data()});
     if (lubricated())
       s.lubrication_dissipated = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_lub_dissipated.data()});
+    if (m_tally.size() != static_cast<std::size_t>(m_n)) return s;  // no collision statistics asked for
     double v[11];
     for (int f = 0; f < 11; ++f) v[f] = backend::reduceSum<double>(Space{}, m_n, ReadTally{m_tally.data(), f});
     for (int q = 0; q < kModeCount; ++q) {
@@ -274,6 +292,7 @@ class DemSolver final : public DemEngine {
   template <class Walls>
   void stepWith(const Walls& walls, T dt) {
     backend::parallelFor(Space{}, m_n, KickDrift<T>{view(), dt});
+    m_sums_cleared = true;
     const T half_skin = T(0.5 * m_setup.skin);
     const T moved2 = backend::reduceMax<T>(Space{}, m_n, T(0), DisplacementSq<T>{m_pos.data(), m_pos_ref.data()});
     if (!(moved2 < T(1e29))) throw core::SimulationError("DEM: non-finite particle position (NaN or Inf): the step diverged");
@@ -300,6 +319,9 @@ class DemSolver final : public DemEngine {
       s.com_x = backend::reduceSum<double>(Space{}, m_n, MassMoment<T>{p, 0}) / s.mass;
       s.com_y = backend::reduceSum<double>(Space{}, m_n, MassMoment<T>{p, 1}) / s.mass;
     }
+    if (m_nbr_start.size() == static_cast<std::size_t>(m_n) + 1)
+      s.pair_contacts =
+          backend::reduceSum<double>(Space{}, m_n, PairContactCount<T>{p, m_nbr_start.data(), m_nbr_list.data()});
     return s;
   }
 
@@ -310,13 +332,13 @@ class DemSolver final : public DemEngine {
             {"dem.contact_history", m_pair_xi.bytes() + m_wall_key.bytes() + m_wall_xi.bytes() + m_overflow.bytes() +
                                         m_old_xi.bytes()},
             {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes() +
-                                          m_work_external.bytes()},
+                                          m_fixed_torque.bytes() + m_work_external.bytes()},
             {"dem.external_loads", m_ext_force.bytes() + m_ext_torque.bytes()},
             {"dem.partner_scatter", m_scatter.bytes()},
             {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_int_w.bytes() + m_scratch_real.bytes() +
                                         m_scratch_double.bytes() + m_scratch_vec.bytes() + m_scratch_vec_w.bytes() +
                                         m_old_of_new.bytes()},
-            {"dem.collision_stats", m_tally.bytes() + m_fixed_torque.bytes() + m_scratch_tally.bytes()},
+            {"dem.collision_stats", m_tally.bytes() + m_scratch_tally.bytes()},
             {"dem.lubrication", m_lub_dissipated.bytes()},
             {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
                               m_old_list.bytes() + m_pos_ref.bytes()}};
@@ -487,7 +509,8 @@ class DemSolver final : public DemEngine {
   // ContactForces through the backend's partner sink. External loads only exist in wet runs.
   template <class Walls, class Law, class Extra = NoPairExtra<T>>
   void launchContacts(const Walls& walls, T dt, Law law, Extra extra = Extra{}, T* fixed_wall_torque = nullptr) {
-    backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
+    if (!m_sums_cleared) backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
+    m_sums_cleared = false;
     const PartnerTargets<T> targets{m_force.data(), m_torque.data(), m_dissipated.data()};
     const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
     m_scatter.run(m_n, targets, [&](auto sink) {
@@ -531,8 +554,8 @@ class DemSolver final : public DemEngine {
 
   void allocateStirred() {
     const std::size_t n = static_cast<std::size_t>(m_n);
-    if (m_tally.size() != n) m_tally.resize(n, CollisionTally{});
-    if (m_scratch_tally.size() != n) m_scratch_tally.resize(n, CollisionTally{});
+    if (m_setup.collision_stats && m_tally.size() != n) m_tally.resize(n, CollisionTally{});
+    if (m_setup.collision_stats && m_scratch_tally.size() != n) m_scratch_tally.resize(n, CollisionTally{});
     if (m_fixed_torque.size() != n) m_fixed_torque.resize(n, T(0));
     if (lubricated() && m_lub_dissipated.size() != n) m_lub_dissipated.resize(n, 0.0);
   }
@@ -569,13 +592,19 @@ class DemSolver final : public DemEngine {
     launchContacts(walls, dt, law, extra, m_fixed_torque.data());
   }
 
+  // Lubrication and collision tallies are template parameters of the pair hook: what the case
+  // does not ask for costs nothing per pair (dry without statistics: the drum's plain loop).
   template <class Law>
   void launchStirredLaw(const StirrerWalls<T>& walls, T dt, Law law) {
-    if (lubricated())
-      launchStirred(walls, dt, law,
-                    StirredPairExtra<T, true>{JeffreyOnishi<T>{m_lub}, m_tally.data(), m_lub_dissipated.data(), dt});
+    const JeffreyOnishi<T> lub{m_lub};
+    if (lubricated() && m_setup.collision_stats)
+      launchStirred(walls, dt, law, StirredPairExtra<T, true, true>{lub, m_tally.data(), m_lub_dissipated.data(), dt});
+    else if (lubricated())
+      launchStirred(walls, dt, law, StirredPairExtra<T, true, false>{lub, nullptr, m_lub_dissipated.data(), dt});
+    else if (m_setup.collision_stats)
+      launchStirred(walls, dt, law, StirredPairExtra<T, false, true>{lub, m_tally.data(), nullptr, dt});
     else
-      launchStirred(walls, dt, law, StirredPairExtra<T, false>{JeffreyOnishi<T>{m_lub}, m_tally.data(), nullptr, dt});
+      launchStirred(walls, dt, law, NoPairExtra<T>{});
   }
 
   void computeForces(const StirrerState& state, T dt) {
@@ -596,6 +625,7 @@ class DemSolver final : public DemEngine {
   HertzParams<T> m_law;
   int m_n = 0;
   std::int64_t m_rebuilds = 0;
+  bool m_sums_cleared = false;  // KickDrift cleared the force sums since the last contact pass
   neighbors::CellList<Space, T> m_cells;
   PartnerScatter<Space, T> m_scatter;
   backend::Array<Space, Vec3<T>> m_pos, m_vel, m_omega, m_force, m_torque, m_pos_ref;

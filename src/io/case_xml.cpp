@@ -295,8 +295,10 @@ Schema buildSchema() {
       {"lubrication", false, nullptr,
        "Pairwise hydrodynamic lubrication (Jeffrey-Onishi, seed 004 eqs. 5-11) between beads and with the walls "
        "(stirred mill). viscosity = 0: no lubrication at all."},
-      {"collisions", false, nullptr,
-       "Collision analysis of the stirred mill: Beinert typology, 9 regions, coarse-grained velocity field."},
+      {"collisions", false, [](Scene& sc) -> bool& { return sc.has_collisions; },
+       "Collision analysis of the stirred mill: Beinert typology, 9 regions, coarse-grained velocity field. "
+       "Without it (or with enabled=\"false\") no per-contact tallies are kept and those outputs are not "
+       "written."},
   };
 
   s.attributes = {
@@ -612,6 +614,8 @@ Schema buildSchema() {
       number("lubrication", "outer", "", above(0), [](Scene& sc) -> double& { return sc.lubrication.outer; },
              "Outer cutoff / d_ij: no force beyond (seed: 0.05); must exceed inner."),
 
+      flag("collisions", "enabled", [](Scene& sc) -> bool& { return sc.collisions.enabled; },
+           "Keep the statistics (false: as if the element were absent; e.g. for timing runs)."),
       number("collisions", "start", "s", atLeast(0), [](Scene& sc) -> double& { return sc.collisions.start; },
              "Collision statistics and velocity field from this time on."),
       number("collisions", "sample_every", "s", above(0),

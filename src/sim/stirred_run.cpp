@@ -137,6 +137,7 @@ struct StirredRun::Impl {
   std::vector<double> rpm;
   std::vector<StirredLevel> levels;
   StirredEnergy energy;
+  double coordination_end = 0;  // bead-bead contacts per bead at the end (2 x pairs / beads)
   std::vector<RegionStats> regions;
   dem::StirredSums final_sums;
   RunSummary summary;
@@ -226,6 +227,7 @@ struct StirredRun::Impl {
     setup.lubrication_viscosity = scene.lubrication.viscosity;
     setup.lubrication_inner = scene.lubrication.inner;
     setup.lubrication_outer = scene.lubrication.outer;
+    setup.collision_stats = collisionStats();
     setup.gravity = scene.gravity;
     setup.skin = 0.2 * r_min;
     setup.max_radius = r_max;
@@ -309,6 +311,8 @@ struct StirredRun::Impl {
   void run();
   void writeOutputs(const fs::path& out, double stats_time) const;
   void writeVelocityField(const fs::path& out) const;
+  void writeCollisionOutputs(const fs::path& out, double stats_time) const;
+  bool collisionStats() const { return scene.has_collisions && scene.collisions.enabled; }
 };
 
 void StirredRun::Impl::run() {
@@ -328,7 +332,8 @@ void StirredRun::Impl::run() {
         out / "series.csv",
         std::vector<std::string>{"time_s", "rpm", "stirrer_torque_Nm", "outer_torque_Nm", "power_W", "kinetic_J",
                                  "potential_J", "elastic_J", "work_in_J", "contact_dissipated_J",
-                                 "lubrication_dissipated_J", "energy_residual_J", "max_speed_m_s"},
+                                 "lubrication_dissipated_J", "energy_residual_J", "max_speed_m_s",
+                                 "contacts_per_bead", "wall_time_s"},
         false);
   const double t_end = endTime();
   levels.clear();
@@ -384,7 +389,9 @@ void StirredRun::Impl::run() {
           checkEscaped(s);
           series->row({t, rpmAt(t), st.stirrer_torque, st.outer_torque, -st.stirrer_torque * omega, now.kinetic,
                        now.potential, now.elastic, energy.work_in, energy.contact_dissipated,
-                       energy.lubrication_dissipated, energy.residual, now.max_speed});
+                       energy.lubrication_dissipated, energy.residual, now.max_speed,
+                       2.0 * now.pair_contacts / double(summary.particles),
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count()});
           next_series += scene.output.series_every;
         } else if (!series && t >= next_series - 1e-9 * dt) {
           dem::DemHostState s;
@@ -405,7 +412,7 @@ void StirredRun::Impl::run() {
           ++level;
         }
       }
-      if (t >= next_sample - 0.5 * dt && t >= scene.collisions.start - 0.5 * dt) {
+      if (collisionStats() && t >= next_sample - 0.5 * dt && t >= scene.collisions.start - 0.5 * dt) {
         if (stats_t0 < 0) stats_t0 = t;
         sampleCollisions();
         next_sample += scene.collisions.sample_every;
@@ -437,6 +444,7 @@ void StirredRun::Impl::run() {
   summary.energy_work_in = now.work_in;
   summary.energy_elastic = now.elastic;
   summary.energy_residual = energy.residual;
+  coordination_end = summary.particles > 0 ? 2.0 * now.pair_contacts / double(summary.particles) : 0.0;
   if (!levels.empty()) {
     summary.power_W = levels.back().power_W;
     summary.omega_rad_s = levels.back().rpm * 2 * kPi / 60;
@@ -469,7 +477,37 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
     ax.y_label = "net power [W]";
     io::writeLinePlot((out / "power.png").string(), ax, {p});
   }
-  // Collision typology totals (collisions.csv) and by region (regions.csv).
+  if (collisionStats()) writeCollisionOutputs(out, stats_time);
+  // summary.json: the usual head plus the stirred-mill block.
+  nlohmann::ordered_json j = summaryHead(summary, scene.name, scene.source);
+  nlohmann::ordered_json lv_json = nlohmann::ordered_json::array();
+  for (const auto& lv : levels)
+    lv_json.push_back({{"rpm", lv.rpm},
+                       {"power_W", lv.power_W},
+                       {"net_power_W", lv.net_power_W},
+                       {"stirrer_torque_Nm", lv.stirrer_torque_Nm},
+                       {"outer_torque_Nm", lv.outer_torque_Nm},
+                       {"window_s", {lv.t_average, lv.t_end}}});
+  j["stirred"] = {{"beads", summary.particles},
+                  {"neighbour_rebuilds", summary.neighbour_rebuilds},
+                  {"coordination_number_end", coordination_end},
+                  {"bead_mass_kg", summary.charge_mass_kg},
+                  {"levels", lv_json},
+                  {"energy",
+                   {{"work_in_J", energy.work_in},
+                    {"d_kinetic_J", energy.d_kinetic},
+                    {"d_potential_J", energy.d_potential},
+                    {"d_elastic_J", energy.d_elastic},
+                    {"contact_dissipated_J", energy.contact_dissipated},
+                    {"lubrication_dissipated_J", energy.lubrication_dissipated},
+                    {"residual_J", energy.residual},
+                    {"residual_relative", energy.work_in != 0 ? energy.residual / energy.work_in : 0.0}}}};
+  j["memory_bytes"] = memoryJson(engine->memoryBytes());
+  writeJsonFile(out / "summary.json", j);
+}
+
+// Collision typology totals (collisions.csv), by region (regions.csv), and the velocity field.
+void StirredRun::Impl::writeCollisionOutputs(const fs::path& out, double stats_time) const {
   double diss_total = 0, coll_total = 0;
   double diss_mode[dem::kModeCount] = {0, 0, 0, 0}, energy_mode[dem::kModeCount] = {0, 0, 0, 0};
   for (const auto& r : regions) {
@@ -515,31 +553,6 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
     }
   }
   writeVelocityField(out);
-  // summary.json: the usual head plus the stirred-mill block.
-  nlohmann::ordered_json j = summaryHead(summary, scene.name, scene.source);
-  nlohmann::ordered_json lv_json = nlohmann::ordered_json::array();
-  for (const auto& lv : levels)
-    lv_json.push_back({{"rpm", lv.rpm},
-                       {"power_W", lv.power_W},
-                       {"net_power_W", lv.net_power_W},
-                       {"stirrer_torque_Nm", lv.stirrer_torque_Nm},
-                       {"outer_torque_Nm", lv.outer_torque_Nm},
-                       {"window_s", {lv.t_average, lv.t_end}}});
-  j["stirred"] = {{"beads", summary.particles},
-                  {"neighbour_rebuilds", summary.neighbour_rebuilds},
-                  {"bead_mass_kg", summary.charge_mass_kg},
-                  {"levels", lv_json},
-                  {"energy",
-                   {{"work_in_J", energy.work_in},
-                    {"d_kinetic_J", energy.d_kinetic},
-                    {"d_potential_J", energy.d_potential},
-                    {"d_elastic_J", energy.d_elastic},
-                    {"contact_dissipated_J", energy.contact_dissipated},
-                    {"lubrication_dissipated_J", energy.lubrication_dissipated},
-                    {"residual_J", energy.residual},
-                    {"residual_relative", energy.work_in != 0 ? energy.residual / energy.work_in : 0.0}}}};
-  j["memory_bytes"] = memoryJson(engine->memoryBytes());
-  writeJsonFile(out / "summary.json", j);
 }
 
 void StirredRun::Impl::writeVelocityField(const fs::path& out) const {
@@ -632,7 +645,7 @@ std::vector<std::string> StirredRun::stages() const {
   std::vector<std::string> s{"neighbour_build", "dem_kick_drift", "dem_contacts_and_stirrer_walls"};
   if (m_impl->scene.lubrication.viscosity > 0) s.push_back("lubrication_pairs_and_walls");
   s.push_back("dem_kick");
-  s.push_back("collision_sampling");
+  if (m_impl->collisionStats()) s.push_back("collision_sampling");
   return s;
 }
 std::map<std::string, std::size_t> StirredRun::memoryReport() const { return m_impl->engine->memoryBytes(); }

@@ -549,7 +549,7 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "stirrer.idle_power_W",
       "beads.count", "beads.diameter", "beads.diameter_max", "beads.lattice_factor", "beads.seed",
       "lubrication.viscosity", "lubrication.inner", "lubrication.outer",
-      "collisions.start", "collisions.sample_every", "collisions.grid_radial", "collisions.grid_axial",
+      "collisions.enabled", "collisions.start", "collisions.sample_every", "collisions.grid_radial", "collisions.grid_axial",
       "probes.points"};
   // clang-format on
   EXPECT_EQ(paths, expected);

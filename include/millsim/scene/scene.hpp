@@ -179,6 +179,7 @@ struct LubricationSceneParams {
 // Collision analysis of the stirred mill (seed 004 section 3.3): Beinert typology, 9 regions,
 // coarse-grained velocity fields.
 struct CollisionParams {
+  bool enabled = true;      // with a <collisions> element (Scene::has_collisions): statistics on
   double start = 0.0;       // s: statistics from this time on
   double sample_every = 2e-4;  // s between velocity-field samples
   int grid_radial = 24;     // velocity field cells across the chamber diameter (x and y)
@@ -197,6 +198,7 @@ struct Scene {
   bool effect_sph = false;
   bool has_drum = true, has_tank = false, has_fluid = false, has_slurry = false;
   bool has_stirrer = false;
+  bool has_collisions = false;  // <collisions>: Beinert tallies, regions, velocity field (stirred mill)
   TimeParams time;
   OutputParams output;
   DemParams dem;
