@@ -10,11 +10,11 @@
 // shifting; c0 = 1 m/s (Mach 0.05 at the balls' 5 cm/s), CFL 0.2 (about 360 steps); balls of
 // R = 3 cm (3 dp), 2500 kg/m3, double precision everywhere (SPH and DEM).
 //
-// Tolerance: 1e-6 of |P(0)| (the issue's). In double the budget closes to ~1e-13: every pair
-// force is antisymmetric in floating point, what is left is summation order. The same scene
-// with the balls given dt x (their load at the step's start) - the coupling before this test -
-// misses by 3e-3 (Verlet) and 1e-4 (symplectic, loads held from the step's end): see
-// docs/validation.md.
+// Tolerance: 1e-6 of |P(0)| (the issue's). In double the budget closes to 1.5e-14 (both
+// integrators): every pair force is antisymmetric in floating point, what is left is summation
+// order. Broken on purpose (docs/validation.md): the balls given dt x (Verlet load at the step's
+// start) instead of the fluid's leap-frog share: 6.7e-3; the DEM's first half-kick carrying the
+// previous held load: 2.5e-4 (symplectic), 5.4e-4 (Verlet).
 #include <gtest/gtest.h>
 
 #include <array>
