@@ -66,6 +66,28 @@ struct KickDrift {
   }
 };
 
+// A new held external load replaces the old one in the force of the current state (the force
+// the next step's first half-kick uses): a load held over the steps that follow then delivers
+// exactly (sum of their dt) x load, with no half step of the previous load carried over.
+template <class T>
+struct ReplaceHeldLoad {
+  ParticleView<T> p;
+  const int* id;                 // host number of each particle
+  const Vec3<T>* old_force;      // host order; nullptr when there was none
+  const Vec3<T>* old_torque;
+  const Vec3<T>* new_force;
+  const Vec3<T>* new_torque;
+  MILLSIM_HD void operator()(int i) const {
+    const int k = id[i];
+    p.force[i] += new_force[k];
+    p.torque[i] += new_torque[k];
+    if (old_force) {
+      p.force[i] -= old_force[k];
+      p.torque[i] -= old_torque[k];
+    }
+  }
+};
+
 // Squared displacement since the neighbour list was built, or +inf for a non-finite position
 // (so one reduction both triggers rebuilds and detects NaN).
 template <class T>

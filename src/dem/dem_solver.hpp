@@ -333,7 +333,8 @@ class DemSolver final : public DemEngine {
                                         m_old_xi.bytes()},
             {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes() +
                                           m_fixed_torque.bytes() + m_work_external.bytes()},
-            {"dem.external_loads", m_ext_force.bytes() + m_ext_torque.bytes()},
+            {"dem.external_loads", m_ext_force.bytes() + m_ext_torque.bytes() + m_ext_force_old.bytes() +
+                                       m_ext_torque_old.bytes()},
             {"dem.partner_scatter", m_scatter.bytes()},
             {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_int_w.bytes() + m_scratch_real.bytes() +
                                         m_scratch_double.bytes() + m_scratch_vec.bytes() + m_scratch_vec_w.bytes() +
@@ -347,21 +348,28 @@ class DemSolver final : public DemEngine {
   std::int64_t neighbourRebuilds() const override { return m_rebuilds; }
 
   void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) override {
-    if (force.empty()) {
-      m_has_external = false;
-      return;
+    if (force.empty() && !m_has_external) return;
+    std::vector<Vec3<T>> f(m_n, core::zero3<T>()), t(m_n, core::zero3<T>());
+    if (!force.empty()) {
+      if (force.size() != 3 * static_cast<std::size_t>(m_n) || torque.size() != force.size())
+        throw std::invalid_argument("DemSolver::setExternalForces: expected 3 values per ball");
+      for (int i = 0; i < m_n; ++i) {
+        f[i] = {T(force[3 * i]), T(force[3 * i + 1]), T(force[3 * i + 2])};
+        t[i] = {T(torque[3 * i]), T(torque[3 * i + 1]), T(torque[3 * i + 2])};
+      }
     }
-    if (force.size() != 3 * static_cast<std::size_t>(m_n) || torque.size() != force.size())
-      throw std::invalid_argument("DemSolver::setExternalForces: expected 3 values per ball");
-    std::vector<Vec3<T>> f(m_n), t(m_n);
-    for (int i = 0; i < m_n; ++i) {
-      f[i] = {T(force[3 * i]), T(force[3 * i + 1]), T(force[3 * i + 2])};
-      t[i] = {T(torque[3 * i]), T(torque[3 * i + 1]), T(torque[3 * i + 2])};
-    }
+    // The old load leaves the current force and the new one enters it (ReplaceHeldLoad); the
+    // old arrays are kept for that in the scratch pair.
+    m_ext_force.swap(m_ext_force_old);
+    m_ext_torque.swap(m_ext_torque_old);
     m_ext_force.copyFromHost(f);
     m_ext_torque.copyFromHost(t);
+    const bool had = m_has_external;
+    backend::parallelFor(Space{}, m_n,
+                         ReplaceHeldLoad<T>{view(), m_id.data(), had ? m_ext_force_old.data() : nullptr,
+                                            m_ext_torque_old.data(), m_ext_force.data(), m_ext_torque.data()});
     if (m_work_external.size() != static_cast<std::size_t>(m_n)) m_work_external.resize(m_n, 0.0);
-    m_has_external = true;
+    m_has_external = !force.empty();
   }
 
  private:
@@ -636,7 +644,7 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, double> m_dissipated, m_work_in, m_work_external;
   // Loads from outside (the fluid), by host number; only in coupled runs.
   bool m_has_external = false;
-  backend::Array<Space, Vec3<T>> m_ext_force, m_ext_torque;
+  backend::Array<Space, Vec3<T>> m_ext_force, m_ext_torque, m_ext_force_old, m_ext_torque_old;
   // Springs: one per half-list slot for pairs, kWallSlots per particle for walls.
   backend::Array<Space, Vec3<T>> m_pair_xi, m_wall_xi;
   backend::Array<Space, int> m_wall_key;

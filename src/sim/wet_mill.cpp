@@ -30,9 +30,6 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   const scene::SphParams& p = sc.sph;
   if (p.dimension != 3)
     throw core::InputError(sc.source, lineOf(sc, "sph"), "<sph dimension=\"2\">: a wet mill is 3D (dimension=\"3\")");
-  if (p.integrator != "verlet")
-    throw core::InputError(sc.source, lineOf(sc, "sph"),
-                           "<sph integrator=\"" + p.integrator + "\">: the wet mill couples with verlet only");
   const double dp = p.dp, R = 0.5 * sc.drum.diameter, L = sc.drum.length;
   const double g = gravityNorm(sc);
   m_balls = balls.size();
@@ -91,12 +88,10 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   }
   m_fluid0 = static_cast<long long>(fluid.size());
   sph::addDrumWalls(st, drum, dp, layers, p.rho0);
-  std::vector<sph::SphBody> bodies(m_balls);
   for (std::size_t b = 0; b < m_balls; ++b) {
     const std::array<double, 3> c{balls.pos[3 * b], balls.pos[3 * b + 1], balls.pos[3 * b + 2]};
     const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)));
     sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0);
-    bodies[b].pos = c;
   }
   if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
   m_particles = st.size();
@@ -110,47 +105,28 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
     m_engine = sph::makeSphEngineOmp(m_setup);
   }
   m_engine->setState(st);
-  for (std::size_t b = 0; b < m_balls; ++b) {
-    for (int a = 0; a < 3; ++a) {
-      bodies[b].vel[a] = balls.vel[3 * b + a];
-      bodies[b].omega[a] = balls.omega[3 * b + a];
-    }
-  }
-  m_engine->setBodyKinematics(bodies);
-  m_engine->initialize(motionAt(phi, 0.0));
+  m_coupling = std::make_unique<SphDemCoupling>(m_balls);
+  m_coupling->initialize(*m_engine, balls, motionAt(phi, 0.0));
 }
 
 void WetMill::advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, double& phi, long long& dem_steps,
                       double dt_dem) {
-  const double dt = m_engine->nextDt();
-  const std::vector<sph::SphBodyLoad> loads = m_engine->bodyLoads();
-  std::vector<double> force(3 * m_balls), torque(3 * m_balls);
-  for (std::size_t b = 0; b < m_balls; ++b)
-    for (int a = 0; a < 3; ++a) {
-      force[3 * b + a] = loads[b].force[a];
-      torque[3 * b + a] = loads[b].torque[a];
+  auto half = [&](double dt) {
+    const double w = motion.omega(t + 0.5 * dt);
+    return motionAt(phi + 0.5 * dt * w, w);
+  };
+  auto substeps = [&](double dt) {
+    const int sub = std::max(1, static_cast<int>(std::ceil(dt / dt_dem - 1e-9)));
+    const double h = dt / sub;
+    for (int k = 0; k < sub; ++k) {
+      phi += motion.omega(t + h) * h;
+      dem.step(motion.at(t + h, phi), h);
+      t += h;
+      ++dem_steps;
     }
-  dem.setExternalForces(force, torque);
-  const int sub = std::max(1, static_cast<int>(std::ceil(dt / dt_dem - 1e-9)));
-  const double h = dt / sub;
-  for (int k = 0; k < sub; ++k) {
-    phi += motion.omega(t + h) * h;
-    dem.step(motion.at(t + h, phi), h);
-    t += h;
-    ++dem_steps;
-  }
-  dem::DemHostState s;
-  dem.getState(s);
-  std::vector<sph::SphBody> bodies(m_balls);
-  for (std::size_t b = 0; b < m_balls; ++b)
-    for (int a = 0; a < 3; ++a) {
-      bodies[b].pos[a] = s.pos[3 * b + a];
-      bodies[b].vel[a] = s.vel[3 * b + a];
-      bodies[b].omega[a] = s.omega[3 * b + a];
-    }
-  m_engine->setBodyKinematics(bodies);
-  const sph::SphMotion end = motionAt(phi, motion.omega(t));
-  m_engine->step(dt, end, end);
+    return motionAt(phi, motion.omega(t));
+  };
+  m_coupling->advance(*m_engine, dem, half, substeps);
   ++m_steps;
   if (double(m_engine->excludedCount()) > m_scene.sph.parts_out_max * double(m_fluid0)) {
     const sph::SphSums now = m_engine->sums();
@@ -249,7 +225,7 @@ void WetMill::writeOverlay(const std::filesystem::path& path, const RunSummary& 
 }
 
 std::vector<std::string> WetMill::stages() const {
-  std::vector<std::string> s{"sph_neighbour_build", "sph_pressure", "sph_interaction", "sph_verlet",
+  std::vector<std::string> s{"sph_neighbour_build", "sph_pressure", "sph_interaction", "sph_" + m_setup.integrator,
                              "sph_dem_coupling"};
   if (m_setup.shifting) s.push_back("sph_shifting");
   return s;

@@ -5,10 +5,12 @@
 // particles, and every ball carries a shell of body particles (sph::kBoundBody) so the fluid
 // sees it; the summed fluid force and torque on each shell drive its ball (DEM external loads).
 //
-// Time stepping: one SPH step of dt_sph (CFL) per advance(); inside it the DEM takes
-// ceil(dt_sph / dt_dem) sub-steps with the fluid loads of the step's start held fixed, then the
-// shells are placed at the balls' new positions and the fluid steps. Stable while a ball moves
-// much less than dp per SPH step (v dt_sph << dp: 3 m/s x 5e-5 s = 0.15 mm against 5 mm).
+// Time stepping (SphDemCoupling): one SPH step of dt_sph (CFL) per advance(); inside it the DEM
+// takes ceil(dt_sph / dt_dem) sub-steps with the fluid loads held fixed at the impulse the fluid
+// gives up in that step (Verlet: from the step's start; symplectic: from the mid-step
+// evaluation), then the shells are placed at the balls' new positions and the fluid step ends.
+// Fluid and balls exchange equal and opposite momentum. Stable while a ball moves much less than
+// dp per SPH step (v dt_sph << dp: 3 m/s x 5e-5 s = 0.15 mm against 5 mm).
 //
 // The slurry surface is measured as the paper measures it in its simulations (section 3.8.2):
 // in the plane at mid-length, for each horizontal position the highest fluid particle, per
@@ -26,6 +28,7 @@
 #include "millsim/sim/simulation.hpp"
 #include "millsim/vision/slurry_surface.hpp"
 #include "sim/drum_motion.hpp"
+#include "sim/sph_dem_coupling.hpp"
 #include "sph/sph_engine.hpp"
 
 namespace millsim::sim {
@@ -55,6 +58,7 @@ class WetMill {
   scene::Scene m_scene;
   sph::SphSetup m_setup;
   std::unique_ptr<sph::SphEngine> m_engine;
+  std::unique_ptr<SphDemCoupling> m_coupling;
   std::size_t m_particles = 0, m_balls = 0;
   long long m_fluid0 = 0, m_steps = 0;
   double m_phi0 = 0, m_t0 = 0;

@@ -118,10 +118,11 @@ void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearanc
   s = std::move(out);
 }
 
-void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma) {
+void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma,
+                        int up_axis) {
   const double b = c0 * c0 * rho0 / gamma;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    const double depth = surface_y - s.pos[3 * i + 1];
+    const double depth = surface_y - s.pos[3 * i + up_axis];
     s.rho[i] = depth > 0 ? rho0 * std::pow(1.0 + rho0 * g * depth / b, 1.0 / gamma) : rho0;
   }
 }

@@ -48,8 +48,9 @@ void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, d
 void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearance);
 
 // Sets every particle's density to the hydrostatic value of a free surface at height
-// `surface_y` (up is +y): rho = rho0 (1 + rho0 g (surface_y - y) / B)^(1/gamma), B = c0^2 rho0 /
-// gamma, and rho0 above the surface (boundary particles never below rho0).
-void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma);
+// `surface_y` (up is +y, or the axis `up_axis`): rho = rho0 (1 + rho0 g (surface_y - y) / B)^(1/gamma),
+// B = c0^2 rho0 / gamma, and rho0 above the surface (boundary particles never below rho0).
+void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma,
+                        int up_axis = 1);
 
 }  // namespace millsim::sph

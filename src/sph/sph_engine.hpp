@@ -82,7 +82,17 @@ class SphEngine {
   // Time step from the last force evaluation: CFL (eqs. 40-41) or the fixed one.
   virtual double nextDt() const = 0;
   // One step of dt; moving boundaries at `half` (symplectic predictor) and `end`.
-  virtual void step(double dt, const SphMotion& half, const SphMotion& end) = 0;
+  void step(double dt, const SphMotion& half, const SphMotion& end) {
+    beginStep(dt, half);
+    endStep(dt, end);
+  }
+  // The step in two halves, for a coupling that moves bodies in between. beginStep evaluates
+  // the forces that drive the step (symplectic: predictor to t + dt/2 and the evaluation there,
+  // with the bodies where setBodyKinematics put them; Verlet: nothing, the last evaluation drives
+  // it) and books bodyImpulses(); endStep completes the step (call setBodyKinematics with the
+  // bodies at t + dt first).
+  virtual void beginStep(double dt, const SphMotion& half) = 0;
+  virtual void endStep(double dt, const SphMotion& end) = 0;
   virtual SphSums sums() const = 0;
   // Fluid particles excluded so far (by density or domain): one reduction, for the per-step
   // parts_out_max check (sums() runs nine).
@@ -93,6 +103,12 @@ class SphEngine {
   // Fluid force and torque on each body from the last force evaluation (pressure and viscosity
   // of the fluid neighbours of its particles).
   virtual std::vector<SphBodyLoad> bodyLoads() const = 0;
+  // Impulse (N s) and angular impulse (N m s) the fluid delivers to each body over the step
+  // begun by the last beginStep(): exactly what the fluid's own update takes from it, so fluid
+  // and bodies exchange equal and opposite momentum (up to rounding). Symplectic: dt x the load
+  // at the mid-step evaluation. Verlet: the fluid's leap-frog share, 2 dt F_n - J_(n-1) (the
+  // fluid's velocity chain is v_(n+1) = v_(n-1) + 2 dt a_n), and dt F_n on the Euler steps.
+  virtual const std::vector<SphBodyLoad>& bodyImpulses() const = 0;
   // Shepard-interpolated fluid pressure at a point (probe), Pa; NaN when no fluid within 2h.
   virtual double probePressure(const std::array<double, 3>& x) const = 0;
   virtual std::map<std::string, std::size_t> memoryBytes() const = 0;

@@ -209,6 +209,7 @@ class SphSolver final : public SphEngine {
     m_scratch_int.resize(n, 0);
     m_scratch_sym.resize(m_tau.size(), zeroSym3<T>());
     m_step = 0;
+    m_impulse.assign(static_cast<std::size_t>(m_bodies), SphBodyLoad{});
   }
 
   void getState(SphHostState& s) const override {
@@ -258,36 +259,53 @@ class SphSolver final : public SphEngine {
     return dt;
   }
 
-  void step(double dt_in, const SphMotion& half, const SphMotion& end) override {
+  void beginStep(double dt_in, const SphMotion& half) override {
+    const double dt = dt_in;
+    if (m_symplectic) {
+      backend::parallelFor(Space{}, m_n,
+                           SymplecticPredictor<T>{view(), m_pos_pre.data(), m_vel_pre.data(), m_rho_pre.data(),
+                                                  m_pos0.data(), motionOf(half), m_gravity, T(dt), m_eos.rho0});
+      forces();
+    }
+    if (m_bodies == 0) return;
+    const std::vector<SphBodyLoad> loads = bodyLoads();
+    const bool leap = !m_symplectic && !verletEulerStep();
+    m_impulse.resize(loads.size());
+    for (std::size_t k = 0; k < loads.size(); ++k)
+      for (int a = 0; a < 3; ++a) {
+        // The leap-frog chain: what this step adds to the fluid's momentum is 2 dt F_n minus
+        // what the previous step added (v_(n+1) - v_n = v_(n-1) - v_n + 2 dt a_n).
+        m_impulse[k].force[a] = leap ? 2 * dt * loads[k].force[a] - m_impulse[k].force[a] : dt * loads[k].force[a];
+        m_impulse[k].torque[a] = leap ? 2 * dt * loads[k].torque[a] - m_impulse[k].torque[a] : dt * loads[k].torque[a];
+      }
+  }
+
+  void endStep(double dt_in, const SphMotion& end) override {
     const T dt = T(dt_in);
     const FluidChecks<T> checks{T(m_setup.rho_min), T(m_setup.rho_max), m_lo, m_hi,
                                 T(m_setup.shift_coef * m_setup.h), T(m_setup.shift_tfs)};
     const SphView<T> p = view();
     if (!m_symplectic) {
-      const bool euler = m_setup.verlet_steps > 0 && (m_step + 1) % m_setup.verlet_steps == 0;
+      const bool euler = verletEulerStep();
       withShift([&](auto shift) {
         backend::parallelFor(Space{}, m_n,
                              VerletUpdate<T, decltype(shift)::value>{p, m_vel_m1.data(), m_rho_m1.data(), m_pos0.data(),
                                                                      motionOf(end), checks, m_gravity, dt, m_eos.rho0,
                                                                      euler});
       });
-      forces();
     } else {
-      backend::parallelFor(Space{}, m_n,
-                           SymplecticPredictor<T>{p, m_pos_pre.data(), m_vel_pre.data(), m_rho_pre.data(), m_pos0.data(),
-                                                  motionOf(half), m_gravity, dt, m_eos.rho0});
-      forces();
-      const SphView<T> q = view();  // arrays were renumbered by forces()
       withShift([&](auto shift) {
         backend::parallelFor(Space{}, m_n,
                              SymplecticCorrector<T, decltype(shift)::value>{
-                                 q, m_pos_pre.data(), m_vel_pre.data(), m_rho_pre.data(), m_pos0.data(), motionOf(end),
+                                 p, m_pos_pre.data(), m_vel_pre.data(), m_rho_pre.data(), m_pos0.data(), motionOf(end),
                                  checks, m_gravity, dt, m_eos.rho0});
       });
-      forces();
     }
+    forces();
     ++m_step;
   }
+
+  const std::vector<SphBodyLoad>& bodyImpulses() const override { return m_impulse; }
 
   SphSums sums() const override {
     SphSums s;
@@ -325,6 +343,9 @@ class SphSolver final : public SphEngine {
       x[k] = toVec(bodies[k].pos);
       v[k] = toVec(bodies[k].vel);
       w[k] = toVec(bodies[k].omega);
+      if (Dim == 2) {  // in the plane, spinning about z (as setState flattens the particles)
+        x[k].z = v[k].z = w[k].x = w[k].y = T(0);
+      }
     }
     m_body_pos.copyFromHost(x);
     m_body_vel.copyFromHost(v);
@@ -395,6 +416,9 @@ class SphSolver final : public SphEngine {
   };
 
   static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
+
+  // Every verlet_steps-th Verlet step is an Euler step (re-couples the leap-frog chains).
+  bool verletEulerStep() const { return m_setup.verlet_steps > 0 && (m_step + 1) % m_setup.verlet_steps == 0; }
 
   SphView<T> view() {
     return {m_pos.data(),   m_vel.data(),        m_rho.data(),       m_code.data(),   m_press.data(), m_ace.data(),
@@ -508,6 +532,7 @@ class SphSolver final : public SphEngine {
   int m_bodies = 0;
   backend::Array<Space, int> m_body;
   backend::Array<Space, Vec3<T>> m_offset, m_body_pos, m_body_vel, m_body_omega;
+  std::vector<SphBodyLoad> m_impulse;  // per body, of the step begun last (bodyImpulses)
   backend::Array<Space, Sym3<T>> m_strain, m_tau;
   backend::Array<Space, Vec3<T>> m_scratch_vec;
   backend::Array<Space, T> m_scratch_real;

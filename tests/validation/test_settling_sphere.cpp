@@ -1,0 +1,206 @@
+// Issue 5, Done-when (settling sphere): a sphere released from rest on the axis of a closed
+// cylinder full of viscous fluid reaches a terminal velocity that matches the drag law.
+//
+// Law: Schiller & Naumann (1933), Cd = 24/Re (1 + 0.15 Re^0.687) (Re < 800), with the wall
+// factor of Di Felice (1996, Int. J. Multiphase Flow 22:527) for a sphere on the axis of a tube:
+//   U_t / U_inf = ((1 - lambda) / (1 - 0.33 lambda))^alpha,  alpha = (3.3 + 0.085 Re) / (1 + 0.1 Re),
+// lambda = d / D, Re of the unbounded terminal velocity (at Re -> 0 it is Haberman & Sayre's
+// creeping-flow factor within 1% for lambda <= 0.3). U_inf solves
+//   (rho_s / rho_f - 1) g (4/3) d = Cd(U d / nu) U^2
+// by fixed-point iteration; rho_f is the fluid's density at the sphere's depth (the closed
+// column is weakly compressible: rho_f = rho0 (1 + rho0 g depth / B)^(1/7)).
+//
+// Scene (3D): d = 6 mm, rho_s / rho0 = 3, nu = 2e-4 m2/s (laminar viscosity of Lo & Shao 2002,
+// the SPS terms off: Cs = C_I = 0), D = 5 d (lambda = 0.2), column 36 mm, gravity -z, Wendland,
+// h = 0.8 sqrt(3) dp, Fourtakas DDT 0.1, shifting, Verlet, CFL 0.2, c0 from g H / c0^2 = 0.03
+// (Mach < 0.03). The sphere is a DEM ball driven by the wet mill's coupling
+// (sim::SphDemCoupling). Expected: U_inf = 0.140 m/s at Re = 4.2, wall factor 0.671, U_t =
+// 0.094 m/s, relaxation time 25 ms. Reduced: R = 3 dp (dp = 1 mm); full size: R = 6 dp.
+//
+// STATUS: not yet run to completion (the machine was saturated by other jobs when written), so
+// both tests are disabled until measured; see docs/validation.md. The 10% tolerance is the
+// issue's. The DBC gap makes the sphere look larger by ~0.13 dp (2D Archimedes test): at
+// R = 3 dp that raises the buoyancy by ~13% of rho_f V g, 6% of the net weight at
+// rho_s / rho_f = 3, and the drag with the radius: expect the reduced run several percent low.
+//
+// Terminal velocity: the mean over the last tau_v of the run (tau_v = the law's relaxation
+// time), which ends when the sphere is 1.5 d above the bottom. The steady check compares the
+// first and second halves of that window.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "sim/sph_dem_coupling.hpp"
+#include "sph/geometry.hpp"
+#include "support/dem_fixture.hpp"
+#include "support/sph_fixture.hpp"
+
+namespace millsim {
+namespace {
+
+double schillerNaumann(double re) { return 24.0 / re * (1.0 + 0.15 * std::pow(re, 0.687)); }
+
+double diFeliceWallFactor(double lambda, double re) {
+  const double alpha = (3.3 + 0.085 * re) / (1.0 + 0.1 * re);
+  return std::pow((1.0 - lambda) / (1.0 - 0.33 * lambda), alpha);
+}
+
+// Unbounded terminal velocity of a sphere of diameter d and density ratio s.
+double terminalVelocity(double d, double s, double nu, double g) {
+  double u = 1e-3;
+  for (int k = 0; k < 200; ++k) u = std::sqrt(4.0 / 3.0 * (s - 1.0) * g * d / schillerNaumann(u * d / nu));
+  return u;
+}
+
+struct SettlingCase {
+  double dp = 0.001;  // R = 3 dp
+  double d = 0.006, s = 3.0, nu = 2e-4, lambda = 0.2, length = 0.036, rho0 = 1000, g = 9.81;
+  std::string integrator = "verlet";
+  std::string csv;  // time series written here when set
+};
+
+struct SettlingResult {
+  double measured = 0, expected = 0, u_inf = 0, re_inf = 0, wall = 0, tau = 0, steady = 0, wall_s = 0;
+  long long steps = 0, particles = 0;
+};
+
+SettlingResult runSettling(const SettlingCase& c) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double dp = c.dp, r = 0.5 * c.d, rc = 0.5 * c.d / c.lambda, gamma = 7;
+  const double c0 = std::sqrt(c.g * c.length / 0.03);
+  sph::SphSetup s;
+  s.dimension = 3;
+  s.dp = dp;
+  s.h = 0.8 * std::sqrt(3.0) * dp;
+  s.c0 = c0;
+  s.rho0 = c.rho0;
+  s.gamma = gamma;
+  s.gravity = {0, 0, -c.g};
+  s.viscosity = "laminar_sps";
+  s.nu = c.nu;
+  s.sps_cs = 0;
+  s.sps_ci = 0;
+  s.integrator = c.integrator;
+  s.shifting = true;
+  const double m = rc + 5 * dp;
+  s.domain_lo = {-m, -m, -5 * dp};
+  s.domain_hi = {m, m, c.length + 5 * dp};
+
+  // Fluid on the drum lattice (centres at (i + 1/2) dp), walls from the same lattice.
+  sph::SphHostState st;
+  const int n = static_cast<int>(std::ceil(rc / dp)), nz = static_cast<int>(std::floor(c.length / dp + 1e-9));
+  for (int k = 0; k < nz; ++k)
+    for (int j = -n; j < n; ++j)
+      for (int i = -n; i < n; ++i) {
+        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        if (std::hypot(x, y) > rc - 0.5 * dp) continue;
+        st.pos.insert(st.pos.end(), {x, y, z});
+        st.vel.insert(st.vel.end(), {0.0, 0.0, 0.0});
+        st.rho.push_back(c.rho0);
+        st.code.push_back(sph::kFluid);
+      }
+  sph::addDrumWalls(st, sph::DrumGeometry{rc, c.length, 0, 0, 0, 0}, dp, 3, c.rho0);
+  for (int& code : st.code)
+    if (code == sph::kBoundMoving) code = sph::kBoundFixed;
+  const std::array<double, 3> start{0, 0, c.length - 1.5 * c.d};
+  sph::carveFluid(st, start, r + 0.5 * dp);
+  sph::addSphereShell(st, start, r, dp, 3, 3, 0, c.rho0);
+  sph::hydrostaticDensity(st, c.length, c.g, c.rho0, c0, gamma, 2);
+
+  testing::DemScene dsc;
+  dsc.density = c.s * c.rho0;
+  dsc.gravity = {0, 0, -c.g};
+  auto dem = testing::makeEngine(dsc, {testing::Ball{start[0], start[1], start[2], 0, 0, 0, r}});
+  auto sph = sph::makeSphEngineOmp(s);
+  sph->setState(st);
+  sim::SphDemCoupling coupling(1);
+  coupling.initialize(*sph, testing::state(*dem), {});
+
+  // The law at the depth where the sphere ends (the window's fluid density, within 0.3%).
+  const double z_stop = 1.5 * c.d + r;
+  const double b = c0 * c0 * c.rho0 / gamma;
+  const double rho_f = c.rho0 * std::pow(1 + c.rho0 * c.g * (c.length - z_stop) / b, 1 / gamma);
+  const double s_local = c.s * c.rho0 / rho_f;
+  SettlingResult res;
+  res.particles = static_cast<long long>(st.size());
+  res.u_inf = terminalVelocity(c.d, s_local, c.nu, c.g);
+  res.re_inf = res.u_inf * c.d / c.nu;
+  res.wall = diFeliceWallFactor(c.lambda, res.re_inf);
+  res.expected = res.u_inf * res.wall;
+  res.tau = (s_local + 0.5) * c.d * c.d / (18 * c.nu * (1 + 0.15 * std::pow(res.re_inf, 0.687)));
+
+  std::vector<double> ts, zs, vs;
+  double t = 0;
+  auto half = [](double) { return sph::SphMotion{}; };
+  auto dem_steps = [&](double dt) {
+    dem->step(testing::stillDrum(), dt);  // no contacts: one DEM step per SPH step
+    return sph::SphMotion{};
+  };
+  while (true) {
+    t += coupling.advance(*sph, *dem, half, dem_steps);
+    ++res.steps;
+    const dem::DemHostState ball = testing::state(*dem);
+    ts.push_back(t);
+    zs.push_back(ball.pos[2]);
+    vs.push_back(-ball.vel[2]);
+    if (ball.pos[2] <= z_stop || t > 20 * res.tau) break;
+  }
+  const double t0 = t - res.tau, tm = t - 0.5 * res.tau;
+  double a = 0, b1 = 0, b2 = 0;
+  int na = 0, n1 = 0, n2 = 0;
+  for (std::size_t k = 0; k < ts.size(); ++k) {
+    if (ts[k] < t0) continue;
+    a += vs[k], ++na;
+    if (ts[k] < tm)
+      b1 += vs[k], ++n1;
+    else
+      b2 += vs[k], ++n2;
+  }
+  res.measured = a / std::max(na, 1);
+  res.steady = (b2 / std::max(n2, 1) - b1 / std::max(n1, 1)) / res.expected;
+  if (!c.csv.empty()) {
+    std::ofstream f(c.csv);
+    f << "t_s,z_m,v_down_m_s\n";
+    for (std::size_t k = 0; k < ts.size(); ++k) f << ts[k] << ',' << zs[k] << ',' << vs[k] << '\n';
+  }
+  const sph::SphSums sums = sph->sums();
+  EXPECT_EQ(sums.excluded_density + sums.excluded_domain, 0);
+  EXPECT_LT(t, 20 * res.tau) << "the sphere did not reach the stop height";
+  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  std::printf("settling sphere: R = %.1f dp, %lld particles, %lld steps, %.1f s wall: U = %.4f m/s against %.4f "
+              "(U_inf %.4f at Re %.2f, wall factor %.3f, tau %.4f s), %+.1f%%, drift over the window %+.1f%%\n",
+              r / dp, res.particles, res.steps, res.wall_s, res.measured, res.expected, res.u_inf, res.re_inf,
+              res.wall, res.tau, 100 * (res.measured / res.expected - 1), 100 * res.steady);
+  return res;
+}
+
+void expectTerminal(const SettlingCase& c) {
+  const SettlingResult r = runSettling(c);
+  ::testing::Test::RecordProperty("terminal_velocity_m_s", std::to_string(r.measured));
+  ::testing::Test::RecordProperty("expected_m_s", std::to_string(r.expected));
+  EXPECT_LT(std::abs(r.steady), 0.02) << "not terminal yet";
+  EXPECT_NEAR(r.measured, r.expected, 0.10 * r.expected);
+}
+
+TEST(SettlingSphere, DISABLED_TerminalVelocityReduced) {
+  SettlingCase c;
+  c.csv = "settling_sphere_R3dp.csv";
+  expectTerminal(c);
+}
+
+TEST(SettlingSphere, DISABLED_TerminalVelocityFullSize) {
+  SettlingCase c;
+  c.dp = 0.0005;  // R = 6 dp
+  c.csv = "settling_sphere_R6dp.csv";
+  expectTerminal(c);
+}
+
+}  // namespace
+}  // namespace millsim
