@@ -39,7 +39,7 @@ static void BM_SphDamBreak3dFine(benchmark::State& state) {
   runSteps(state, "dam_break_3d", {"sph.dp=0.00142875"}, 20);
 }
 
-BENCHMARK(BM_SphDamBreak2d)->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_SphDamBreak2dSymplectic)->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_SphDamBreak3d)->Unit(benchmark::kMillisecond)->Iterations(40);
-BENCHMARK(BM_SphDamBreak3dFine)->Unit(benchmark::kMillisecond)->Iterations(10);
+BENCHMARK(BM_SphDamBreak2d)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK(BM_SphDamBreak2dSymplectic)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK(BM_SphDamBreak3d)->Unit(benchmark::kMillisecond)->Iterations(40)->UseRealTime();
+BENCHMARK(BM_SphDamBreak3dFine)->Unit(benchmark::kMillisecond)->Iterations(10)->UseRealTime();

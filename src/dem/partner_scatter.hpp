@@ -3,11 +3,14 @@
 // its lower-index particle i (half neighbour list); the force on i stays in registers and the
 // reaction on the partner j goes to a "sink":
 //   - DirectSink: straight into j's sums. Used when the loop runs on one thread.
-//   - ThreadRowsSink: into a per-thread row array, summed into the particles afterwards (the
-//     scheme of LAMMPS's OPENMP package). Deterministic for a given thread count.
+//   - ChunkRowsSink: several OpenMP threads, each owning a contiguous chunk of particles: a
+//     partner in the thread's own chunk directly, one past its end into a per-thread row array
+//     summed afterwards (a variant of LAMMPS's OPENMP-package rows that only reduces the few
+//     rows a chunk boundary touches). Deterministic for a given thread count.
 //   - AtomicSink (CUDA, src/backend/cuda/partner_scatter_cuda.cuh): atomic adds.
 // PartnerScatter<Space, T> picks the sink per execution space and runs the loop; the loop body
 // (dem_kernels.hpp) is the same functor for every sink.
+#include <algorithm>
 #include <vector>
 
 #ifdef _OPENMP
@@ -46,38 +49,29 @@ struct PartnerRow {
   T dissipated;
 };
 
-// The loop hands out particles to threads; a thread writes its own particles' sums directly (no
-// other thread owns them) and partners' shares into its own row array.
+// Several OpenMP threads: thread k owns the contiguous chunk [lo, hi) of particles and writes
+// their sums directly. Particles are numbered in cell order, so a partner j > i is nearly always
+// in the same chunk: that reaction goes straight to j's sums too (no other thread writes
+// there). Only partners past the chunk's end (pairs across the boundary, within a few cell
+// layers of it) go to the thread's row array; `touched` records the highest such index so
+// the reduction afterwards visits only that window, not every particle.
 template <class T>
-struct ThreadRowsSink {
+struct ChunkRowsSink {
   PartnerTargets<T> t;
-  PartnerRow<T>* rows;  // threads x n
-  int n;
+  PartnerRow<T>* row;  // this thread's rows (n entries; only [hi, *touched] are ever written)
+  int hi;
+  int* touched;        // highest row index written, -1 for none
   void addOwn(int i, Vec3<T> f, Vec3<T> tq, T dissipated) const { DirectSink<T>{t}.addOwn(i, f, tq, dissipated); }
   void addPartner(int j, Vec3<T> f, Vec3<T> tq, T dissipated) const {
-#ifdef _OPENMP
-    PartnerRow<T>& r = rows[static_cast<std::size_t>(omp_get_thread_num()) * n + j];
-#else
-    PartnerRow<T>& r = rows[j];
-#endif
+    if (j < hi) {
+      DirectSink<T>{t}.addOwn(j, f, tq, dissipated);
+      return;
+    }
+    PartnerRow<T>& r = row[j];
     r.force += f;
     r.torque += tq;
     r.dissipated += dissipated;
-  }
-};
-
-// Adds every thread's row for particle i into its sums and clears the rows for the next step.
-template <class T>
-struct ReduceThreadRows {
-  PartnerTargets<T> t;
-  PartnerRow<T>* rows;
-  int n, threads;
-  void operator()(int i) const {
-    for (int k = 0; k < threads; ++k) {
-      PartnerRow<T>& r = rows[static_cast<std::size_t>(k) * n + i];
-      DirectSink<T>{t}.addOwn(i, r.force, r.torque, r.dissipated);
-      r = PartnerRow<T>{};
-    }
+    if (j > *touched) *touched = j;
   }
 };
 
@@ -101,13 +95,41 @@ class PartnerScatter<backend::Omp, T> {
     }
     const std::size_t rows = static_cast<std::size_t>(threads) * n;
     if (m_rows.size() != rows) m_rows.assign(rows, PartnerRow<T>{});  // only when n or threads change
-    backend::parallelFor(backend::Omp{}, n, make(ThreadRowsSink<T>{targets, m_rows.data(), n}));
-    backend::parallelFor(backend::Omp{}, n, ReduceThreadRows<T>{targets, m_rows.data(), n, threads});
+    m_touched.assign(static_cast<std::size_t>(threads), Touched{});
+    const int chunk = (n + threads - 1) / threads;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(threads)
+#endif
+    {
+#ifdef _OPENMP
+      const int k = omp_get_thread_num();
+#else
+      const int k = 0;
+#endif
+      const int lo = std::min(n, k * chunk), hi = std::min(n, lo + chunk);
+      const auto loop = make(ChunkRowsSink<T>{targets, m_rows.data() + static_cast<std::size_t>(k) * n, hi,
+                                              &m_touched[static_cast<std::size_t>(k)].index});
+      for (int i = lo; i < hi; ++i) loop(i);
+    }
+    // The rows past each chunk's end into the sums, cleared for the next pass (serial: the
+    // windows are a few cell layers long).
+    for (int k = 0; k < threads; ++k) {
+      PartnerRow<T>* row = m_rows.data() + static_cast<std::size_t>(k) * n;
+      const int from = std::min(n, (k + 1) * chunk);
+      for (int j = from; j <= m_touched[static_cast<std::size_t>(k)].index; ++j) {
+        DirectSink<T>{targets}.addOwn(j, row[j].force, row[j].torque, row[j].dissipated);
+        row[j] = PartnerRow<T>{};
+      }
+    }
   }
   std::size_t bytes() const { return m_rows.size() * sizeof(PartnerRow<T>); }
 
  private:
+  struct alignas(64) Touched {  // one cache line per thread: no false sharing in the loop
+    int index = -1;
+  };
   std::vector<PartnerRow<T>> m_rows;
+  std::vector<Touched> m_touched;
 };
 
 }  // namespace millsim::dem

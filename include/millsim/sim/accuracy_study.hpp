@@ -11,6 +11,10 @@
 //   error = |e_measured - e| / e (exact damping: the law gives e exactly in the dt -> 0 limit).
 //   Axes: time-step divisor
 //   N (dt = t_c / N), Young's modulus (the reduced-stiffness question), precision.
+// - drum_300: the shipped 300 mm mill, balls only (cases/ball_mill_300_balls.xml, 12 s; --quick:
+//   4 s); error = |angle of repose - angle at t_c/200 (quick: t_c/100)| in degrees (the finest setting as the
+//   reference, as no analytic angle exists); a second charge seed shows the noise floor.
+//   Axes: time-step divisor, Young's modulus, precision.
 // --quick keeps each axis to its cheapest levels (CI smoke test).
 #include <string>
 #include <vector>
@@ -19,7 +23,8 @@ namespace millsim::sim {
 
 struct StudyRow {
   std::string problem, axis, setting;
-  double error = 0;
+  double error = 0;  // relative (dam break, impact) or degrees (drum)
+  double value = 0;  // the measured quantity (drum: angle of repose, deg)
   double wall_s = 0;
   double simulated_s = 0;
   long long particles = 0, steps = 0;
