@@ -58,6 +58,13 @@ static void BM_DemDrumStep(benchmark::State& state) {
   state.counters["particle_steps_per_s"] =
       benchmark::Counter(static_cast<double>(s.radius.size()) * state.iterations(), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_DemDrumStep)->Args({1000, 0})->Args({10000, 0})->Args({10000, 1})->Args({50000, 0})->Args({200000, 0})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_DemDrumStep)
+    ->Args({1000, 0})
+    ->Args({10000, 0})
+    ->Args({10000, 1})
+    ->Args({50000, 0})
+    ->Args({200000, 0})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -12,7 +12,7 @@ bench=$root/build/bench/millsim_bench
 cli=$root/build/apps/millsim/millsim
 out=$(mktemp -d)
 rate() {  # benchmark filter, threads -> particle_steps_per_s
-  OMP_NUM_THREADS=$2 "$bench" --benchmark_filter="$1" --benchmark_format=json 2>/dev/null |
+  OMP_NUM_THREADS=$2 "$bench" --benchmark_filter="$1" --benchmark_min_time=3 --benchmark_format=json 2>/dev/null |
     python3 -c 'import json, sys; b = json.load(sys.stdin)["benchmarks"][0]; print("%.4g" % b["particle_steps_per_s"])'
 }
 ls1() {  # threads -> particle-steps/s of 300 LS1 steps

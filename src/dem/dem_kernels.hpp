@@ -72,8 +72,8 @@ struct KickDrift {
 template <class T>
 struct ReplaceHeldLoad {
   ParticleView<T> p;
-  const int* id;                 // host number of each particle
-  const Vec3<T>* old_force;      // host order; nullptr when there was none
+  const int* id;             // host number of each particle
+  const Vec3<T>* old_force;  // host order; nullptr when there was none
   const Vec3<T>* old_torque;
   const Vec3<T>* new_force;
   const Vec3<T>* new_torque;
@@ -179,7 +179,7 @@ struct ContactForces {
   const Vec3<T>* ext_torque;
   const int* id;
   double* work_external;
-  T* drum_torque;   // torque of this particle's wall contacts on the drum about +z, N m
+  T* drum_torque;  // torque of this particle's wall contacts on the drum about +z, N m
   Walls walls;
   Law law;
   T wall_mass_factor;

@@ -60,7 +60,7 @@ struct ChunkRowsSink {
   PartnerTargets<T> t;
   PartnerRow<T>* row;  // this thread's rows (n entries; only [hi, *touched] are ever written)
   int hi;
-  int* touched;        // highest row index written, -1 for none
+  int* touched;  // highest row index written, -1 for none
   void addOwn(int i, Vec3<T> f, Vec3<T> tq, T dissipated) const { DirectSink<T>{t}.addOwn(i, f, tq, dissipated); }
   void addPartner(int j, Vec3<T> f, Vec3<T> tq, T dissipated) const {
     if (j < hi) {

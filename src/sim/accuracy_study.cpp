@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -123,8 +123,8 @@ StudyRow drumAngle(const std::string& source_dir, bool quick, const std::string&
   std::vector<std::string> all = sets;
   for (const char* s : {"output.fields_every=0", "output.checkpoint_every=0"}) all.push_back(s);
   if (quick)  // 1 s of compaction, 3 s of rotation, 30 frames over the last 1.5 s
-    for (const char* s : {"time.end=4", "compaction.duration=1", "drum.start_time=1",
-                          "angle_of_repose.start_time=2.5", "angle_of_repose.frames=30"})
+    for (const char* s : {"time.end=4", "compaction.duration=1", "drum.start_time=1", "angle_of_repose.start_time=2.5",
+                          "angle_of_repose.frames=30"})
       all.push_back(s);
   const scene::Scene sc = io::loadCaseFile(source_dir + "/cases/ball_mill_300_balls.xml", all);
   RunOptions opt;
@@ -172,8 +172,7 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
   // Hertz impact: dt divisor, stiffness, precision.
   for (double n : quick ? std::vector<double>{10, 50} : std::vector<double>{10, 20, 50, 100, 400})
     rows.push_back(hertzImpact("dt_divisor", "t_c/" + std::to_string(int(n)), n, 1e8, false));
-  for (double young : quick ? std::vector<double>{1e7} : std::vector<double>{1e7, 1e9, 2e11})
-  {
+  for (double young : quick ? std::vector<double>{1e7} : std::vector<double>{1e7, 1e9, 2e11}) {
     char label[32];
     std::snprintf(label, sizeof label, "E = %.0e Pa", young);
     rows.push_back(hertzImpact("youngs_modulus", label, 50, young, false));

@@ -332,8 +332,8 @@ void StirredRun::Impl::run() {
         out / "series.csv",
         std::vector<std::string>{"time_s", "rpm", "stirrer_torque_Nm", "outer_torque_Nm", "power_W", "kinetic_J",
                                  "potential_J", "elastic_J", "work_in_J", "contact_dissipated_J",
-                                 "lubrication_dissipated_J", "energy_residual_J", "max_speed_m_s",
-                                 "contacts_per_bead", "wall_time_s"},
+                                 "lubrication_dissipated_J", "energy_residual_J", "max_speed_m_s", "contacts_per_bead",
+                                 "wall_time_s"},
         false);
   const double t_end = endTime();
   levels.clear();

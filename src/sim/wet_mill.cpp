@@ -9,9 +9,9 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/plot_png.hpp"
 #include "millsim/vision/slurry_curve.hpp"
+#include "sim/sph_run.hpp"
 #include "sph/eos.hpp"
 #include "sph/geometry.hpp"
-#include "sim/sph_run.hpp"
 #include "sph/sph_kernels.hpp"
 
 namespace millsim::sim {
@@ -36,7 +36,11 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
 
   // Slurry: lattice points inside the drum, clear of walls, lifters and balls; the lowest
   // filling x V_drum / dp^3 of them (the pool a poured slurry forms).
-  sph::DrumGeometry drum{R, L, sc.drum.lifters.count, sc.drum.lifters.height, sc.drum.lifters.width,
+  sph::DrumGeometry drum{R,
+                         L,
+                         sc.drum.lifters.count,
+                         sc.drum.lifters.height,
+                         sc.drum.lifters.width,
                          phi + 0.5 * std::acos(-1.0)};  // DrumMotion's phase0: a lifter on top at phi = 0
   std::vector<FillPoint> candidates;
   const int n = static_cast<int>(std::ceil(R / dp)), nz = static_cast<int>(std::floor(L / dp + 1e-9));

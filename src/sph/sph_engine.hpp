@@ -21,7 +21,7 @@ struct SphSetup {
   double dp = 0, h = 0, c0 = 0, rho0 = 1000, gamma = 7;
   double alpha = 0.1, visco_bound_factor = 1.0, nu = 1e-6;
   double ddt_value = 0.1;
-  double eta2_factor = 0.01;      // eta^2 = factor h^2
+  double eta2_factor = 0.01;  // eta^2 = factor h^2
   double shift_coef = 2.0, shift_tfs = 1.5;
   double sps_cs = 0.12, sps_ci = 0.0066;
   int verlet_steps = 40;
@@ -38,7 +38,7 @@ struct SphSetup {
 struct SphHostState {
   std::vector<double> pos, vel;  // 3 per particle
   std::vector<double> rho;
-  std::vector<int> code;         // ParticleCode
+  std::vector<int> code;  // ParticleCode
   // Body particles (code kBoundBody) only: the body they belong to and their offset from its
   // centre (3 per particle, fixed in the lab orientation: bodies are spheres, whose shell looks
   // the same however they turn). Empty when the case has no bodies.

@@ -84,6 +84,24 @@ inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std:
   return engine;
 }
 
+// A tumbling-drum set-up: E = 1e8 Pa steel balls, exact damping for restitution e, friction mu,
+// gravity -y, skin 0.2 r_min, cells over [lo, hi].
+inline dem::DemSetup drumSetup(double e, double mu, double r_min, double r_max, std::array<double, 3> lo,
+                               std::array<double, 3> hi) {
+  const DemScene sc;
+  dem::DemSetup setup;
+  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
+  setup.alpha = dem::dampingAlpha(sc.damping, e);
+  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
+  setup.friction = mu;
+  setup.gravity = {0, -9.81, 0};
+  setup.skin = 0.2 * r_min;
+  setup.max_radius = r_max;
+  setup.domain_lo = lo;
+  setup.domain_hi = hi;
+  return setup;
+}
+
 inline dem::DemHostState state(const dem::DemEngine& e) {
   dem::DemHostState s;
   e.getState(s);

@@ -69,18 +69,8 @@ dem::DrumState drumAt(double t) {
 }
 
 std::unique_ptr<dem::DemEngine> drumEngine(const dem::DemHostState& s) {
-  testing::DemScene sc;
-  dem::DemSetup setup;
-  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
-  setup.alpha = dem::dampingAlpha(sc.damping, 0.5);
-  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
-  setup.friction = 0.5;
-  setup.gravity = {0, -9.81, 0};
-  setup.skin = 0.2 * 0.002;
-  setup.max_radius = 0.003;
-  setup.domain_lo = {-0.06, -0.06, -0.01};
-  setup.domain_hi = {0.06, 0.06, 0.05};
-  auto e = dem::makeDemEngineOmp(setup, false);
+  auto e = dem::makeDemEngineOmp(testing::drumSetup(0.5, 0.5, 0.002, 0.003, {-0.06, -0.06, -0.01}, {0.06, 0.06, 0.05}),
+                                 false);
   e->setState(s);
   return e;
 }

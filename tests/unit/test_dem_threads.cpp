@@ -46,17 +46,8 @@ dem::DrumState drum(double t) {
 
 dem::DemHostState run(int threads) {
   omp_set_num_threads(threads);
-  dem::DemSetup setup;
-  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(1e8, 0.29);
-  setup.alpha = dem::dampingAlpha(dem::DampingModel::kExact, 0.4);
-  setup.wall_mass_factor = dem::wallMassFactor(dem::DampingModel::kExact);
-  setup.friction = 0.5;
-  setup.gravity = {0, -9.81, 0};
-  setup.skin = 0.2 * 0.004;
-  setup.max_radius = 0.005;
-  setup.domain_lo = {-0.17, -0.17, -0.01};
-  setup.domain_hi = {0.17, 0.17, 0.095};
-  auto e = dem::makeDemEngineOmp(setup, false);
+  auto e = dem::makeDemEngineOmp(testing::drumSetup(0.4, 0.5, 0.004, 0.005, {-0.17, -0.17, -0.01}, {0.17, 0.17, 0.095}),
+                                 false);
   e->setState(bed());
   const double dt = 5e-6;
   e->initialize(drum(0));

@@ -41,7 +41,8 @@ Budget windowBudget(const testing::CaseOutput& r, double t0, double t1) {
 
 void expectBudgetCloses(const std::vector<std::string>& overrides, const std::string& name) {
   std::vector<std::string> o = overrides;
-  for (const char* s : {"time.end=3", "output.fields_every=0", "output.checkpoint_every=0", "angle_of_repose.enabled=false"})
+  for (const char* s :
+       {"time.end=3", "output.fields_every=0", "output.checkpoint_every=0", "angle_of_repose.enabled=false"})
     o.push_back(s);
   const testing::CaseOutput r = testing::runCase("ball_mill_300_balls", o, name);
   ASSERT_EQ(r.summary["status"], "ok");

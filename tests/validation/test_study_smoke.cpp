@@ -15,8 +15,8 @@ namespace {
 TEST(StudySmoke, QuickAccuracyStudyWritesSaneOutputs) {
   const auto out = std::filesystem::temp_directory_path() / "millsim_test_study";
   std::filesystem::remove_all(out);
-  const std::string cmd = std::string(MILLSIM_CLI) + " study accuracy --quick --out " + out.string() +
-                          " --source " + MILLSIM_SOURCE_DIR + " > /dev/null 2>&1";
+  const std::string cmd = std::string(MILLSIM_CLI) + " study accuracy --quick --out " + out.string() + " --source " +
+                          MILLSIM_SOURCE_DIR + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::ifstream csv(out / "accuracy_cost.csv");
   ASSERT_TRUE(csv.good());

@@ -117,8 +117,8 @@ MomentumRun runBox(const std::string& integrator) {
     t += coupling.advance(*sph, *dem, half, dem_steps);
     ++r.steps;
     const std::array<double, 3> p = total(nullptr, nullptr);
-    const double d = std::sqrt((p[0] - p0[0]) * (p[0] - p0[0]) + (p[1] - p0[1]) * (p[1] - p0[1]) +
-                               (p[2] - p0[2]) * (p[2] - p0[2]));
+    const double d =
+        std::sqrt((p[0] - p0[0]) * (p[0] - p0[0]) + (p[1] - p0[1]) * (p[1] - p0[1]) + (p[2] - p0[2]) * (p[2] - p0[2]));
     r.worst = std::max(r.worst, d / r.p0);
   }
   double fluid_abs = 0, wall_abs = 0;
@@ -131,9 +131,10 @@ MomentumRun runBox(const std::string& integrator) {
 }
 
 void expectConserved(const MomentumRun& r) {
-  std::printf("closed box: %lld steps, max |P(t) - P(0)| / |P(0)| = %.3g (P(0) = %.4g kg m/s); at the end the fluid "
-              "holds %.3f and the walls took %.3f of |P(0)|\n",
-              r.steps, r.worst, r.p0, r.fluid_share, r.wall_share);
+  std::printf(
+      "closed box: %lld steps, max |P(t) - P(0)| / |P(0)| = %.3g (P(0) = %.4g kg m/s); at the end the fluid "
+      "holds %.3f and the walls took %.3f of |P(0)|\n",
+      r.steps, r.worst, r.p0, r.fluid_share, r.wall_share);
   ::testing::Test::RecordProperty("max_relative_drift", std::to_string(r.worst));
   ::testing::Test::RecordProperty("steps", std::to_string(r.steps));
   EXPECT_LT(r.worst, 1e-6) << "|P(t) - P(0)| / |P(0)|, P(0) = " << r.p0 << " kg m/s";
