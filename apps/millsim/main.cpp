@@ -364,6 +364,9 @@ int main(int argc, char** argv) {
   study_accuracy->add_flag("--quick", study_quick, "Cheapest levels of each axis (a smoke test)");
   study_accuracy->add_option("--out", study_out, "Output directory");
   study_accuracy->add_option("--source", study_source, "Directory holding cases/ (default: the source tree)");
+  std::string study_replot;
+  study_accuracy->add_option("--replot", study_replot,
+                             "Redraw the CSV and plots into --out from an earlier accuracy_cost.csv, running nothing");
   study->require_subcommand(1);
   auto* describe = app.add_subcommand("describe", "Print every case-file element and attribute (markdown)");
 
@@ -423,7 +426,8 @@ int main(int argc, char** argv) {
     }
     if (compare_db->parsed()) return compareDamBreakCommand(db_dirs, db_a, db_g, db_png, db_labels);
     if (study_accuracy->parsed()) {
-      const auto rows = millsim::sim::runAccuracyStudy(study_quick, study_source);
+      const auto rows = study_replot.empty() ? millsim::sim::runAccuracyStudy(study_quick, study_source)
+                                             : millsim::sim::readAccuracyStudy(study_replot);
       millsim::sim::writeAccuracyStudy(rows, study_out);
       nlohmann::ordered_json j = nlohmann::ordered_json::array();
       for (const auto& r : rows)

@@ -6,10 +6,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "dem/contact/damping.hpp"
 #include "dem/dem_engine.hpp"
+#include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/io/plot_png.hpp"
 #include "millsim/sim/martin_moyce.hpp"
@@ -219,6 +221,40 @@ std::vector<std::size_t> paretoFront(const std::vector<StudyRow>& rows, const st
   return front;
 }
 
+std::vector<StudyRow> readAccuracyStudy(const std::string& csv) {
+  std::ifstream in(csv);
+  if (!in) throw core::InputError(csv + ": cannot read");
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("problem,axis,setting,error,value,wall_s", 0) != 0)
+    throw core::InputError(csv, 1, "not an accuracy_cost.csv header");
+  std::vector<StudyRow> rows;
+  for (int n = 2; std::getline(in, line); ++n) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    if (c.size() != 11) throw core::InputError(csv, n, "expected 11 columns");
+    try {
+      StudyRow r;
+      r.problem = c[0];
+      r.axis = c[1];
+      r.setting = c[2];
+      r.error = std::stod(c[3]);
+      r.value = std::stod(c[4]);
+      r.wall_s = std::stod(c[5]);
+      const double per_s = std::stod(c[6]);
+      r.simulated_s = per_s > 0 ? r.wall_s / per_s : 0.0;
+      r.particles = std::stoll(c[7]);
+      r.steps = std::stoll(c[8]);
+      r.backend = c[9];
+      rows.push_back(r);
+    } catch (const std::logic_error&) {
+      throw core::InputError(csv, n, "not a number where one is expected");
+    }
+  }
+  return rows;
+}
+
 void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& out_dir) {
   std::filesystem::create_directories(out_dir);
   const std::string csv = out_dir + "/accuracy_cost.csv";
@@ -255,6 +291,13 @@ void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& ou
       front.y.push_back(scale * rows[i].error);
     }
     io::PlotAxes axes;
+    // Room above the highest point for the legend (top left), and a margin left and right.
+    if (!all.x.empty()) {
+      axes.x_min = *std::min_element(all.x.begin(), all.x.end()) - 0.1;
+      axes.x_max = *std::max_element(all.x.begin(), all.x.end()) + 0.1;
+      axes.y_min = 0;
+      axes.y_max = 1.35 * std::max(*std::max_element(all.y.begin(), all.y.end()), 1e-12);
+    }
     axes.title = "What accuracy costs: " + problem;
     axes.x_label = "log10(wall time [s])";
     axes.y_label = degrees ? "angle difference to the finest dt [deg]" : "error [%]";

@@ -2,6 +2,7 @@
 // not asserted, only that it writes its outputs and that they are sane (finite errors, positive
 // wall times, a Pareto front per problem, the plots).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -40,6 +41,25 @@ TEST(StudySmoke, QuickAccuracyStudyWritesSaneOutputs) {
   EXPECT_TRUE(std::filesystem::exists(out / "pareto_dam_break_2d.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "pareto_hertz_impact.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "pareto_drum_300.png"));
+
+  // --replot redraws from the CSV without running anything: the same CSV comes back.
+  const auto again = out / "replot";
+  const std::string replot = std::string(MILLSIM_CLI) + " study accuracy --replot " +
+                             (out / "accuracy_cost.csv").string() + " --out " + again.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(replot.c_str()), 0) << replot;
+  auto slurp = [](const std::filesystem::path& f) {
+    std::ifstream in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  EXPECT_EQ(slurp(again / "accuracy_cost.csv"), slurp(out / "accuracy_cost.csv"));
+  EXPECT_TRUE(std::filesystem::exists(again / "pareto_drum_300.png"));
+  // A file that is not a study's CSV: bad input, exit code 2.
+  const std::string bad = std::string(MILLSIM_CLI) +
+                          " study accuracy --replot " MILLSIM_SOURCE_DIR "/cases/minimal_drum.xml --out " +
+                          again.string() + " > /dev/null 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
 }
 
 }  // namespace

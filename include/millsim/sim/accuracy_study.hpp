@@ -36,6 +36,10 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
 // OUT/accuracy_cost.csv and one Pareto plot per problem (OUT/pareto_<problem>.png).
 void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& out_dir);
 
+// The rows of an accuracy_cost.csv written by writeAccuracyStudy (to redraw its plots without
+// rerunning the study). Throws core::InputError (file:line) on a malformed row.
+std::vector<StudyRow> readAccuracyStudy(const std::string& csv);
+
 // Indices of the rows of one problem on the Pareto front (no other row is both faster and
 // more accurate), sorted by wall time.
 std::vector<std::size_t> paretoFront(const std::vector<StudyRow>& rows, const std::string& problem);
