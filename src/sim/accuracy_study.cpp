@@ -27,13 +27,13 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 }
 
 StudyRow damBreak(const std::string& source_dir, const std::string& axis, const std::string& setting,
-                  const std::vector<std::string>& sets) {
+                  const std::vector<std::string>& sets, bool single_precision = false) {
   const double a = 0.05715, g = 9.81, t_end = 2.5 / std::sqrt(2 * g / a) + 1e-3;
   std::vector<std::string> all = sets;
   all.push_back("output.fields_every=0");
   const scene::Scene sc = io::loadCaseFile(source_dir + "/cases/dam_break_2d.xml", all);
   const sph::SphSetup setup = sphSetupOf(sc);
-  auto engine = sph::makeSphEngineOmp(setup);
+  auto engine = sph::makeSphEngineOmp(setup, single_precision);
   const sph::SphHostState particles = sphParticlesOf(sc, setup);
   engine->setState(particles);
   engine->initialize({});
@@ -171,6 +171,7 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
   rows.push_back(damBreak(source_dir, "integrator", "symplectic", {base_dp, "sph.integrator=symplectic"}));
   for (const char* c : quick ? std::vector<const char*>{"0.3"} : std::vector<const char*>{"0.1", "0.3"})
     rows.push_back(damBreak(source_dir, "cfl", c, {base_dp, std::string("sph.cfl=") + c}));
+  rows.push_back(damBreak(source_dir, "precision", "float", {base_dp}, true));
   // Hertz impact: dt divisor, stiffness, precision.
   for (double n : quick ? std::vector<double>{10, 50} : std::vector<double>{10, 20, 50, 100, 400})
     rows.push_back(hertzImpact("dt_divisor", "t_c/" + std::to_string(int(n)), n, 1e8, false));

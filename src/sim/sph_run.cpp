@@ -27,8 +27,9 @@ namespace fs = std::filesystem;
 
 SphRun::SphRun(const scene::Scene& scene, const RunOptions& options) : m_scene(scene), m_options(options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
-  if (options.precision != "double")
-    throw core::InputError("--precision " + options.precision + ": the SPH solver runs in double precision only");
+  if (options.precision != "double" && options.precision != "float")
+    throw core::InputError("--precision " + options.precision + ": expected double or float");
+  const bool single = options.precision == "float";
   m_setup = sphSetupOf(scene);
   m_probes = parseProbes(scene);
   std::string backend = options.backend;
@@ -36,12 +37,12 @@ SphRun::SphRun(const scene::Scene& scene, const RunOptions& options) : m_scene(s
   if (backend == "cuda") {
 #if defined(MILLSIM_HAVE_CUDA)
     if (backend::cudaDevices() == 0) throw core::InputError("--backend cuda: no CUDA device found on this machine");
-    m_engine = sph::makeSphEngineCuda(m_setup);
+    m_engine = sph::makeSphEngineCuda(m_setup, single);
 #else
     throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
 #endif
   } else if (backend == "omp") {
-    m_engine = sph::makeSphEngineOmp(m_setup);
+    m_engine = sph::makeSphEngineOmp(m_setup, single);
   } else {
     throw core::InputError("--backend " + backend + ": expected auto, omp or cuda");
   }

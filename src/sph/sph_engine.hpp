@@ -123,9 +123,11 @@ class SphEngine {
   int m_evaluations_per_step = 1;
 };
 
-std::unique_ptr<SphEngine> makeSphEngineOmp(const SphSetup& setup);
+// single_precision: positions, velocities, densities and the pair sums in float (the
+// accumulated time, sums() and the host state stay double); measured in docs/accuracy-cost.md.
+std::unique_ptr<SphEngine> makeSphEngineOmp(const SphSetup& setup, bool single_precision = false);
 #if defined(MILLSIM_HAVE_CUDA)
-std::unique_ptr<SphEngine> makeSphEngineCuda(const SphSetup& setup);
+std::unique_ptr<SphEngine> makeSphEngineCuda(const SphSetup& setup, bool single_precision = false);
 #endif
 
 }  // namespace millsim::sph

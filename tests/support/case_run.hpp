@@ -36,7 +36,7 @@ inline std::map<std::string, std::vector<double>> readSeries(const std::filesyst
 }
 
 inline CaseOutput runCase(const std::string& case_name, const std::vector<std::string>& overrides,
-                          const std::string& out_name, int threads = 1) {
+                          const std::string& out_name, int threads = 1, const std::string& precision = "double") {
   const auto path = std::filesystem::path(MILLSIM_SOURCE_DIR) / "cases" / (case_name + ".xml");
   const auto out = std::filesystem::temp_directory_path() / ("millsim_test_" + out_name);
   std::filesystem::remove_all(out);
@@ -44,6 +44,7 @@ inline CaseOutput runCase(const std::string& case_name, const std::vector<std::s
   opt.out_dir = out.string();
   opt.threads = threads;
   opt.backend = "omp";
+  opt.precision = precision;
   sim::Simulation simulation(io::loadCaseFile(path.string(), overrides), opt);
   simulation.run();
   CaseOutput r;

@@ -1,6 +1,6 @@
 // Issue 4, Done-when 1: a 2D water column (H = 1 m, dp = H/40) held for 2 s in a DBC tank
 // (cases/hydrostatic_2d.xml) keeps its hydrostatic pressure, loses no particle and conserves
-// its mass exactly, with both integrators.
+// its mass exactly, with both integrators, and in single precision (Verlet) with the same bounds.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,10 +13,13 @@ namespace {
 class Hydrostatic : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Hydrostatic, BottomPressureMassAndStillness) {
-  const std::string integrator = GetParam();
+  // "integrator" or "integrator/float".
+  const std::string param = GetParam(), integrator = param.substr(0, param.find('/'));
+  const std::string precision = param.find("/float") != std::string::npos ? "float" : "double";
   const auto r = testing::runCase("hydrostatic_2d", {"sph.integrator=" + integrator, "output.fields_every=0"},
-                                  "hydrostatic_" + integrator);
+                                  "hydrostatic_" + integrator + "_" + precision, 1, precision);
   ASSERT_EQ(r.summary["status"], "ok");
+  ASSERT_EQ(r.summary["precision"], precision);
   const double rho0 = 1000, g = 9.81, H = 1.0, dp = 0.025;
   // Probe "bottom" sits at the centre of the first fluid row, y = dp/2: after settling its
   // pressure is rho0 g (H - dp/2) (1.25% below rho0 g H). Issue: within 3% of rho0 g H; the
@@ -50,7 +53,7 @@ TEST_P(Hydrostatic, BottomPressureMassAndStillness) {
   EXPECT_LT(vmax, 0.01 * std::sqrt(g * H));
 }
 
-INSTANTIATE_TEST_SUITE_P(Sph, Hydrostatic, ::testing::Values("verlet", "symplectic"));
+INSTANTIATE_TEST_SUITE_P(Sph, Hydrostatic, ::testing::Values("verlet", "symplectic", "verlet/float"));
 
 }  // namespace
 }  // namespace millsim

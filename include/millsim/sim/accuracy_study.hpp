@@ -6,7 +6,7 @@
 // Problems:
 // - dam_break_2d: the Martin & Moyce dam break (cases/dam_break_2d.xml geometry) to T = 2.5;
 //   error = mean |Z_sim - Z_data| / Z_data over M&M's points with T <= 2.5 (raw: no time
-//   shift). Axes: dp, kernel, density diffusion, integrator, CFL.
+//   shift). Axes: dp, kernel, density diffusion, integrator, CFL, precision.
 // - hertz_impact: a 15 mm steel ball hitting a wall at 1 m/s (the drum's material, e = 0.39);
 //   error = |e_measured - e| / e (exact damping: the law gives e exactly in the dt -> 0 limit).
 //   Axes: time-step divisor

@@ -4,7 +4,11 @@
 
 namespace millsim::sph {
 
-std::unique_ptr<SphEngine> makeSphEngineCuda(const SphSetup& setup) {
+std::unique_ptr<SphEngine> makeSphEngineCuda(const SphSetup& setup, bool single_precision) {
+  if (single_precision) {
+    if (setup.dimension == 2) return std::make_unique<SphSolver<backend::Cuda, float, 2>>(setup);
+    return std::make_unique<SphSolver<backend::Cuda, float, 3>>(setup);
+  }
   if (setup.dimension == 2) return std::make_unique<SphSolver<backend::Cuda, double, 2>>(setup);
   return std::make_unique<SphSolver<backend::Cuda, double, 3>>(setup);
 }
