@@ -198,10 +198,11 @@ SettlingResult runSettling(const SettlingCase& c) {
   EXPECT_EQ(sums.excluded_density + sums.excluded_domain, 0);
   EXPECT_LT(t, 60 * res.tau) << "the sphere did not reach the stop height";
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  std::printf("settling sphere: R = %.1f dp, %lld particles, %lld steps, %.1f s wall: U = %.4f m/s against %.4f "
-              "(U_inf %.4f at Re %.2f, wall factor %.3f, tau %.4f s), %+.1f%%, drift over the window %+.1f%%\n",
-              r / dp, res.particles, res.steps, res.wall_s, res.measured, res.expected, res.u_inf, res.re_inf,
-              res.wall, res.tau, 100 * (res.measured / res.expected - 1), 100 * res.steady);
+  std::printf(
+      "settling sphere: R = %.1f dp, %lld particles, %lld steps, %.1f s wall: U = %.4f m/s against %.4f "
+      "(U_inf %.4f at Re %.2f, wall factor %.3f, tau %.4f s), %+.1f%%, drift over the window %+.1f%%\n",
+      r / dp, res.particles, res.steps, res.wall_s, res.measured, res.expected, res.u_inf, res.re_inf, res.wall,
+      res.tau, 100 * (res.measured / res.expected - 1), 100 * res.steady);
   return res;
 }
 
