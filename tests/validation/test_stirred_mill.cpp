@@ -144,6 +144,27 @@ TEST(StirredMillCase, DryEnergyBudgetPowerAndStatistics) {
   EXPECT_NEAR(pct, 100.0, 1e-6);
 }
 
+// Without collision statistics (collisions.enabled=false, as if the element were absent) the
+// pair hook keeps no tallies: no tally arrays, no statistics files, and the same physics (the
+// tallies only read the contact), so the stirrer's work matches the run with statistics.
+TEST(StirredMillCase, StatisticsOffChangesNothingButTheirCost) {
+  const auto on = runCase("stirred_mill_ls1_small", {"time.end=0.006", "stirrer.hold=0.002"}, "stirred_stats_on");
+  const auto off = runCase("stirred_mill_ls1_small",
+                           {"time.end=0.006", "stirrer.hold=0.002", "collisions.enabled=false"}, "stirred_stats_off");
+  ASSERT_EQ(on.summary["status"], "ok");
+  ASSERT_EQ(off.summary["status"], "ok");
+  const double w_on = on.summary["stirred"]["energy"]["work_in_J"],
+               w_off = off.summary["stirred"]["energy"]["work_in_J"];
+  ASSERT_GT(w_on, 0.0);
+  EXPECT_NEAR(w_off, w_on, 1e-9 * w_on);
+  EXPECT_GT(int(on.summary["memory_bytes"].value("dem.collision_stats", 0)), 0);
+  EXPECT_EQ(int(off.summary["memory_bytes"].value("dem.collision_stats", 0)), 0);
+  const auto dir = std::filesystem::temp_directory_path();
+  EXPECT_TRUE(std::filesystem::exists(dir / "millsim_test_stirred_stats_on" / "collisions.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "millsim_test_stirred_stats_off" / "collisions.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "millsim_test_stirred_stats_off" / "regions.csv"));
+}
+
 TEST(StirredMillCase, LubricatedEnergyBudgetCloses) {
   const auto r = runCase("stirred_mill_ls1_small", {"lubrication.viscosity=0.1"}, "stirred_small_wet");
   ASSERT_EQ(r.summary["status"], "ok");
