@@ -70,6 +70,23 @@ void markRunEnd(RunSummary& s, const std::string& status, double t, long long st
   s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 }
 
+void recordFailedRun(RunSummary& s, const std::string& error, double t, long long steps,
+                     std::chrono::steady_clock::time_point wall0, const std::filesystem::path* summary_json,
+                     const std::map<std::string, std::size_t>& memory, const std::string& case_name,
+                     const std::string& case_source) {
+  s.error = error;
+  markRunEnd(s, "failed", t, steps, wall0);
+  if (summary_json) writeSummaryJson(*summary_json, s, {}, memory, case_name, case_source);
+}
+
+void fillDemEnergy(RunSummary& s, double kinetic, double potential, double dissipated, double work_in, double elastic) {
+  s.energy_kinetic = kinetic;
+  s.energy_potential = potential;
+  s.energy_dissipated = dissipated;
+  s.energy_work_in = work_in;
+  s.energy_elastic = elastic;
+}
+
 void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
                       const std::map<std::string, std::size_t>& memory, const std::string& case_name,
                       const std::string& case_source) {
@@ -91,15 +108,16 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
   j["power_W"] = s.power_W;
   j["torque_Nm"] = s.torque_Nm;
   j["omega_rad_s"] = s.omega_rad_s;
-  j["energy"] = {{"kinetic_J", s.energy_kinetic},     {"potential_J", s.energy_potential},
+  j["energy"] = {{"kinetic_J", s.energy_kinetic},       {"potential_J", s.energy_potential},
                  {"dissipated_J", s.energy_dissipated}, {"work_in_J", s.energy_work_in},
-                 {"elastic_J", s.energy_elastic},     {"budget_residual_J", s.energy_residual}};
+                 {"elastic_J", s.energy_elastic},       {"budget_residual_J", s.energy_residual}};
   if (s.sph_particles > 0) {
     j["particles"]["sph"] = s.sph_particles;
-    j["wet_mill"] = {{"sph_steps", s.sph_steps},
-                     {"sph_excluded", s.sph_excluded},
-                     {"slurry_frames", s.slurry_frames},
-                     {"slurry_curve_mm", s.slurry_valid ? nlohmann::ordered_json(s.slurry_coef) : nlohmann::ordered_json()}};
+    j["wet_mill"] = {
+        {"sph_steps", s.sph_steps},
+        {"sph_excluded", s.sph_excluded},
+        {"slurry_frames", s.slurry_frames},
+        {"slurry_curve_mm", s.slurry_valid ? nlohmann::ordered_json(s.slurry_coef) : nlohmann::ordered_json()}};
     if (!s.slurry_error.empty()) j["wet_mill"]["slurry_error"] = s.slurry_error;
   }
   writeJsonFile(path, j);

@@ -6,10 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/sim/simulation.hpp"
@@ -41,6 +40,16 @@ void markRunEnd(RunSummary& s, const std::string& status, double t, long long st
 void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, const std::vector<std::string>& stages,
                       const std::map<std::string, std::size_t>& memory, const std::string& case_name,
                       const std::string& case_source);
+
+// A run loop stopped by a SimulationError: the summary is marked "failed" with the cause and,
+// when outputs are on, summary.json is written (the fields and series already written stay).
+void recordFailedRun(RunSummary& s, const std::string& error, double t, long long steps,
+                     std::chrono::steady_clock::time_point wall0, const std::filesystem::path* summary_json,
+                     const std::map<std::string, std::size_t>& memory, const std::string& case_name,
+                     const std::string& case_source);
+
+// The DEM energy state of the summary (kinetic, potential, dissipated, wall work, elastic).
+void fillDemEnergy(RunSummary& s, double kinetic, double potential, double dissipated, double work_in, double elastic);
 
 // "\r t = 3.20 / 12.00 s  27%  41200 steps/s  ETA 0:21" on stderr, at most every 0.5 s.
 class ProgressLine {

@@ -157,11 +157,7 @@ struct Simulation::Impl {
 };
 
 void Simulation::Impl::fillEnergy(const dem::DemSums& now) {
-  summary.energy_kinetic = now.kinetic;
-  summary.energy_potential = now.potential;
-  summary.energy_dissipated = now.dissipated;
-  summary.energy_work_in = now.work_in;
-  summary.energy_elastic = now.elastic;
+  fillDemEnergy(summary, now.kinetic, now.potential, now.dissipated, now.work_in, now.elastic);
   summary.energy_residual = (now.work_in - sums0.work_in) + (now.work_external - sums0.work_external) -
                             ((now.kinetic - sums0.kinetic) + (now.potential - sums0.potential) +
                              (now.elastic - sums0.elastic) + (now.dissipated - sums0.dissipated));
@@ -279,10 +275,9 @@ void Simulation::Impl::run() {
     }
   } catch (const core::SimulationError& e) {
     progress.finish();
-    summary.error = e.what();
-    markRunEnd(summary, "failed", t, step, wall0);
-    if (options.write_outputs)
-      writeSummaryJson(out / "summary.json", summary, {}, engine->memoryBytes(), scene.name, scene.source);
+    const fs::path summary_json = out / "summary.json";
+    recordFailedRun(summary, e.what(), t, step, wall0, options.write_outputs ? &summary_json : nullptr,
+                    engine->memoryBytes(), scene.name, scene.source);
     throw;
   }
   progress.finish();

@@ -426,10 +426,9 @@ void StirredRun::Impl::run() {
     }
   } catch (const core::SimulationError& e) {
     progress.finish();
-    summary.error = e.what();
-    markRunEnd(summary, "failed", t, step, wall0);
-    if (options.write_outputs)
-      writeSummaryJson(out / "summary.json", summary, {}, engine->memoryBytes(), scene.name, scene.source);
+    const fs::path summary_json = out / "summary.json";
+    recordFailedRun(summary, e.what(), t, step, wall0, options.write_outputs ? &summary_json : nullptr,
+                    engine->memoryBytes(), scene.name, scene.source);
     throw;
   }
   progress.finish();
@@ -438,11 +437,7 @@ void StirredRun::Impl::run() {
   const dem::DemSums now = engine->sums();
   final_sums = engine->stirredSums();
   book(now, final_sums);
-  summary.energy_kinetic = now.kinetic;
-  summary.energy_potential = now.potential;
-  summary.energy_dissipated = now.dissipated;
-  summary.energy_work_in = now.work_in;
-  summary.energy_elastic = now.elastic;
+  fillDemEnergy(summary, now.kinetic, now.potential, now.dissipated, now.work_in, now.elastic);
   summary.energy_residual = energy.residual;
   coordination_end = summary.particles > 0 ? 2.0 * now.pair_contacts / double(summary.particles) : 0.0;
   if (!levels.empty()) {
