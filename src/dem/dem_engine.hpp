@@ -42,6 +42,23 @@ struct DemHostState {
   std::size_t size() const { return radius.size(); }
 };
 
+// DCDEM rigid bodies (rigid_body.hpp): the elements of body b are the state's particles with host
+// numbers start[b] .. start[b + 1] - 1, the first start.back() particles; the particles after
+// them are free spheres. An element's mass in the state is its share of the body's (M / count:
+// gravity, energies and the centre of mass then sum right), its inertia 0; contacts use the
+// body's mass for the damping, as DualSPHysics's DEM between floating bodies does.
+struct DemBodies {
+  std::vector<int> start;         // size() + 1
+  std::vector<double> pos, vel;   // centre of mass and its velocity, 3 per body
+  std::vector<double> ang_mom;    // angular momentum about the centre, world frame, 3 per body
+  std::vector<double> quat;       // orientation (w, x, y, z): body frame -> world, 4 per body
+  std::vector<double> mass;
+  std::vector<double> inertia;    // body frame, about the centre: xx, yy, zz, xy, xz, yz per body
+  std::vector<double> offset;     // element positions in the body frame, 3 per element
+  std::size_t size() const { return mass.size(); }
+  int elements() const { return start.empty() ? 0 : start.back(); }
+};
+
 struct DrumState {
   double radius = 0, z_back = 0, v_back = 0, omega = 0, phi = 0, phase0 = 0;
   int lifter_count = 0;
@@ -69,6 +86,10 @@ class DemEngine {
   virtual const char* precisionName() const = 0;
   virtual void setState(const DemHostState& state) = 0;
   virtual void getState(DemHostState& state) const = 0;
+  // Rigid bodies over the state's first particles (after setState, before initialize); empty:
+  // none. getBodies returns the bodies' current state.
+  virtual void setBodies(const DemBodies& bodies) = 0;
+  virtual void getBodies(DemBodies& bodies) const = 0;
   // Builds the neighbour list and the forces of the current state (call after setState).
   virtual void initialize(const DrumState& walls) = 0;
   // One velocity-Verlet step; `walls` is the wall state at the end of the step.

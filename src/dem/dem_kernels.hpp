@@ -37,6 +37,9 @@ struct ParticleView {
   const T* mass;
   const T* inv_mass;
   const T* inv_inertia;
+  // The mass a contact's damping sees: the particle's own (the same array as mass) or, for a
+  // DCDEM body's element, the body's.
+  const T* contact_mass;
 };
 
 // Half-kick of velocity Verlet: v += dt/2 a, w += dt/2 alpha.
@@ -117,13 +120,16 @@ struct BuildNeighbourList {
   int* list;         // pass 2 output (nullptr in pass 1)
   T skin;
   T range_factor = T(0);  // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
+  const int* body_of = nullptr;  // DCDEM: elements of one body (same id >= 0) never pair
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi = pos[i];
     const T ri = radius[i];
     int c = 0;
     const int base = list ? start[i] : 0;
+    const int bi = body_of ? body_of[i] : -1;
     cells.forEachCandidate(xi, [&](int j) {
       if (j <= i) return;
+      if (bi >= 0 && body_of[j] == bi) return;
       const T reach = (T(1) + range_factor) * (ri + radius[j]) + skin;
       if (core::norm2(xi - pos[j]) < reach * reach) {
         if (list) list[base + c] = j;
@@ -191,8 +197,8 @@ struct ContactForces {
 
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
-    const T ri = p.radius[i], mi = p.mass[i];
-    Vec3<T> f = mi * gravity;
+    const T ri = p.radius[i], mi = p.contact_mass[i];
+    Vec3<T> f = p.mass[i] * gravity;
     Vec3<T> tq = core::zero3<T>();
     T diss_rate = T(0), elastic = T(0), drum_tq = T(0), power_in = T(0);
     [[maybe_unused]] T fixed_tq = T(0);
@@ -227,7 +233,7 @@ struct ContactForces {
       const Vec3<T> v_rel = (vi + core::cross(wi, (-ai) * n)) - (p.vel[j] + core::cross(p.omega[j], aj * n));
       Vec3<T> s = pair_xi[slot];
       [[maybe_unused]] const bool begins = s.x == T(0) && s.y == T(0) && s.z == T(0);
-      const T mj = p.mass[j];
+      const T mj = p.contact_mass[j];
       const ContactResult<T> c = law(n, delta, ri * rj / reach, mi * mj / (mi + mj), v_rel, s, dt);
       pair_xi[slot] = s;
       const Vec3<T> nxft = core::cross(n, c.force_t);

@@ -16,6 +16,7 @@
 #include "dem/dem_kernels.hpp"
 #include "dem/partner_scatter.hpp"
 #include "dem/reorder_kernels.hpp"
+#include "dem/rigid_body.hpp"
 #include "dem/walls/stirrer_walls.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
@@ -168,10 +169,99 @@ class DemSolver final : public DemEngine {
     m_scratch_vec.resize(n, core::zero3<T>());
     m_scratch_vec_w.resize(n * kWallSlots, core::zero3<T>());
     m_old_of_new.resize(n, 0);
+    m_nb = 0;  // bodies, if any, come with setBodies
     // Stirred-mill arrays exist only once a stirred step runs (allocateStirred).
     m_tally.resize(0);
     m_lub_dissipated.resize(0);
     m_fixed_torque.resize(0);
+  }
+
+  void setBodies(const DemBodies& b) override {
+    m_nb = static_cast<int>(b.size());
+    if (m_nb == 0) return;
+    const int ne = b.elements();
+    if (static_cast<int>(b.start.size()) != m_nb + 1 || ne > m_n || b.offset.size() != 3 * std::size_t(ne) ||
+        b.pos.size() != 3 * std::size_t(m_nb) || b.vel.size() != b.pos.size() || b.ang_mom.size() != b.pos.size() ||
+        b.quat.size() != 4 * std::size_t(m_nb) || b.inertia.size() != 6 * std::size_t(m_nb))
+      throw std::invalid_argument("DemSolver::setBodies: inconsistent body arrays");
+    std::vector<Vec3<T>> pos(m_nb), vel(m_nb), L(m_nb), omega(m_nb), offset(ne);
+    std::vector<Quat<T>> q(m_nb);
+    std::vector<Sym3<T>> inv_inertia(m_nb);
+    std::vector<T> inv_mass(m_nb);
+    for (int k = 0; k < m_nb; ++k) {
+      pos[k] = get3(b.pos, k);
+      vel[k] = get3(b.vel, k);
+      L[k] = get3(b.ang_mom, k);
+      q[k] = {T(b.quat[4 * k]), T(b.quat[4 * k + 1]), T(b.quat[4 * k + 2]), T(b.quat[4 * k + 3])};
+      const double* I = &b.inertia[6 * k];
+      const Sym3<double> inv = symInverse(Sym3<double>{I[0], I[1], I[2], I[3], I[4], I[5]});
+      inv_inertia[k] = {T(inv.xx), T(inv.yy), T(inv.zz), T(inv.xy), T(inv.xz), T(inv.yz)};
+      inv_mass[k] = T(1.0 / b.mass[k]);
+      omega[k] = angularVelocity(q[k], inv_inertia[k], L[k]);
+    }
+    for (int e = 0; e < ne; ++e) offset[e] = get3(b.offset, e);
+    // Per particle (current numbering = host numbering right after setState): body id, the
+    // contact mass, and inv_mass 0 so the particle kicks leave the elements to their bodies.
+    std::vector<int> id, body_of(m_n, -1);
+    std::vector<T> contact_mass, inv_mass_p;
+    m_id.copyToHost(id);
+    m_mass.copyToHost(contact_mass);
+    m_inv_mass.copyToHost(inv_mass_p);
+    for (int i = 0; i < m_n; ++i) {
+      const int h = id[i];
+      if (h >= ne) continue;
+      const int k = static_cast<int>(std::upper_bound(b.start.begin(), b.start.end(), h) - b.start.begin()) - 1;
+      body_of[i] = k;
+      contact_mass[i] = T(b.mass[k]);
+      inv_mass_p[i] = T(0);
+    }
+    m_body_pos.copyFromHost(pos);
+    m_body_vel.copyFromHost(vel);
+    m_body_L.copyFromHost(L);
+    m_body_omega.copyFromHost(omega);
+    m_body_q.copyFromHost(q);
+    m_body_inv_inertia.copyFromHost(inv_inertia);
+    m_body_inv_mass.copyFromHost(inv_mass);
+    m_body_force.resize(m_nb, core::zero3<T>());
+    m_body_torque.resize(m_nb, core::zero3<T>());
+    m_body_start.copyFromHost(b.start);
+    m_elem_offset.copyFromHost(offset);
+    m_body_of.copyFromHost(body_of);
+    m_contact_mass.copyFromHost(contact_mass);
+    m_inv_mass.copyFromHost(inv_mass_p);
+    m_index_of_host.resize(m_n, 0);
+    m_scratch_int2.resize(m_n, 0);
+    // The elements start exactly on their bodies.
+    backend::parallelFor(Space{}, m_n, InvertIds{m_id.data(), m_index_of_host.data()});
+    placeElements();
+  }
+
+  void getBodies(DemBodies& b) const override {
+    b = DemBodies{};
+    if (m_nb == 0) return;
+    std::vector<Vec3<T>> pos, vel, L, offset;
+    std::vector<Quat<T>> q;
+    std::vector<Sym3<T>> inv_inertia;
+    std::vector<T> inv_mass;
+    m_body_pos.copyToHost(pos);
+    m_body_vel.copyToHost(vel);
+    m_body_L.copyToHost(L);
+    m_body_q.copyToHost(q);
+    m_body_inv_inertia.copyToHost(inv_inertia);
+    m_body_inv_mass.copyToHost(inv_mass);
+    m_body_start.copyToHost(b.start);
+    m_elem_offset.copyToHost(offset);
+    for (int k = 0; k < m_nb; ++k) {
+      b.pos.insert(b.pos.end(), {double(pos[k].x), double(pos[k].y), double(pos[k].z)});
+      b.vel.insert(b.vel.end(), {double(vel[k].x), double(vel[k].y), double(vel[k].z)});
+      b.ang_mom.insert(b.ang_mom.end(), {double(L[k].x), double(L[k].y), double(L[k].z)});
+      b.quat.insert(b.quat.end(), {double(q[k].w), double(q[k].x), double(q[k].y), double(q[k].z)});
+      b.mass.push_back(1.0 / double(inv_mass[k]));
+      const Sym3<T>& a = inv_inertia[k];
+      const Sym3<double> I = symInverse(Sym3<double>{double(a.xx), double(a.yy), double(a.zz), double(a.xy), double(a.xz), double(a.yz)});
+      b.inertia.insert(b.inertia.end(), {I.xx, I.yy, I.zz, I.xy, I.xz, I.yz});
+    }
+    for (const Vec3<T>& o : offset) b.offset.insert(b.offset.end(), {double(o.x), double(o.y), double(o.z)});
   }
 
   void getState(DemHostState& s) const override {
@@ -248,12 +338,20 @@ class DemSolver final : public DemEngine {
     m_pair_xi.swap(pair_xi);
     m_wall_xi.swap(wall_xi);
     m_wall_key.swap(wall_key);
+    if (m_nb > 0) {
+      bodyLoads();
+      placeElements();  // omega from (q, L) on every element before the first step
+    }
   }
 
   void initialize(const StirrerState& walls) override {
     allocateStirred();
     rebuildNeighbours();
     computeForces(walls, T(0));
+    if (m_nb > 0) {
+      bodyLoads();
+      placeElements();
+    }
   }
 
   void step(const StirrerState& walls, double dt_in) override { stepWith(walls, T(dt_in)); }
@@ -291,14 +389,25 @@ class DemSolver final : public DemEngine {
 
   template <class Walls>
   void stepWith(const Walls& walls, T dt) {
+    // Before KickDrift clears the element forces (a new held external load may have changed them).
+    if (m_nb > 0) bodyLoads();
     backend::parallelFor(Space{}, m_n, KickDrift<T>{view(), dt});
     m_sums_cleared = true;
+    if (m_nb > 0) {
+      backend::parallelFor(Space{}, m_nb, BodyKickDrift<T>{bodyView(), dt});
+      placeElements();
+    }
     const T half_skin = T(0.5 * m_setup.skin);
     const T moved2 = backend::reduceMax<T>(Space{}, m_n, T(0), DisplacementSq<T>{m_pos.data(), m_pos_ref.data()});
     if (!(moved2 < T(1e29))) throw core::SimulationError("DEM: non-finite particle position (NaN or Inf): the step diverged");
     if (moved2 > half_skin * half_skin) rebuildNeighbours();
     computeForces(walls, dt);
     backend::parallelFor(Space{}, m_n, Kick<T>{view(), dt});
+    if (m_nb > 0) {
+      bodyLoads();
+      backend::parallelFor(Space{}, m_nb, BodyKick<T>{bodyView(), dt});
+      placeElements();
+    }
   }
 
   DemSums sums() const override {
@@ -340,6 +449,10 @@ class DemSolver final : public DemEngine {
                                         m_scratch_double.bytes() + m_scratch_vec.bytes() + m_scratch_vec_w.bytes() +
                                         m_old_of_new.bytes()},
             {"dem.collision_stats", m_tally.bytes() + m_scratch_tally.bytes()},
+            {"dem.bodies", m_body_pos.bytes() + m_body_vel.bytes() + m_body_L.bytes() + m_body_omega.bytes() +
+                               m_body_q.bytes() + m_body_force.bytes() + m_body_torque.bytes() + m_body_inv_mass.bytes() +
+                               m_body_inv_inertia.bytes() + m_body_start.bytes() + m_elem_offset.bytes() +
+                               m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() + m_scratch_int2.bytes()},
             {"dem.lubrication", m_lub_dissipated.bytes()},
             {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
                               m_old_list.bytes() + m_pos_ref.bytes()}};
@@ -382,7 +495,27 @@ class DemSolver final : public DemEngine {
 
   ParticleView<T> view() {
     return {m_pos.data(),    m_vel.data(),  m_omega.data(),    m_force.data(),      m_torque.data(),
-            m_radius.data(), m_mass.data(), m_inv_mass.data(), m_inv_inertia.data()};
+            m_radius.data(), m_mass.data(), m_inv_mass.data(), m_inv_inertia.data(),
+            m_nb > 0 ? m_contact_mass.data() : m_mass.data()};
+  }
+
+  static Vec3<T> get3(const std::vector<double>& v, int i) { return {T(v[3 * i]), T(v[3 * i + 1]), T(v[3 * i + 2])}; }
+
+  BodyView<T> bodyView() {
+    return {m_body_pos.data(),   m_body_vel.data(),      m_body_L.data(),        m_body_omega.data(),
+            m_body_q.data(),     m_body_force.data(),    m_body_torque.data(),   m_body_inv_mass.data(),
+            m_body_inv_inertia.data(), m_body_start.data()};
+  }
+
+  void bodyLoads() {
+    backend::parallelFor(Space{}, m_nb,
+                         BodyLoads<T>{bodyView(), m_index_of_host.data(), m_pos.data(), m_force.data(), m_torque.data()});
+  }
+
+  void placeElements() {
+    backend::parallelFor(Space{}, m_n,
+                         PlaceElements<T>{bodyView(), m_body_of.data(), m_id.data(), m_elem_offset.data(), m_pos.data(),
+                                          m_vel.data(), m_omega.data()});
   }
 
   // A checkpoint's springs: wall springs straight into the wall tables; pair springs into the
@@ -441,6 +574,10 @@ class DemSolver final : public DemEngine {
     if (m_work_external.size() == static_cast<std::size_t>(m_n)) gather(m_work_external, m_scratch_double, order, 1);
     gather(m_id, m_scratch_int, order, 1);
     gather(m_overflow, m_scratch_int, order, 1);
+    if (m_nb > 0) {
+      gather(m_body_of, m_scratch_int2, order, 1);
+      gather(m_contact_mass, m_scratch_real, order, 1);
+    }
     gather(m_wall_key, m_scratch_int_w, order, kWallSlots);
     gather(m_wall_xi, m_scratch_vec_w, order, kWallSlots);
     if (m_tally.size() == static_cast<std::size_t>(m_n)) gather(m_tally, m_scratch_tally, order, 1);
@@ -448,6 +585,7 @@ class DemSolver final : public DemEngine {
     // Keep the order, then tell the cell list its particles now are in sorted order.
     backend::parallelFor(Space{}, m_n, Copy<int>{order, m_old_of_new.data()});
     m_cells.renumberedInOrder();
+    if (m_nb > 0) backend::parallelFor(Space{}, m_n, InvertIds{m_id.data(), m_index_of_host.data()});
     return m_old_of_new.data();
   }
 
@@ -475,6 +613,7 @@ class DemSolver final : public DemEngine {
     BuildNeighbourList<T> build{m_cells.view(),     m_pos.data(), m_radius.data(), m_pos_ref.data(),
                                 m_nbr_count.data(), nullptr,      nullptr,         T(m_setup.skin)};
     build.range_factor = T(lubricated() ? m_setup.lubrication_outer : 0.0);
+    if (m_nb > 0) build.body_of = m_body_of.data();
     backend::parallelFor(Space{}, m_n, build);
     const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_nbr_start.data(), m_n);
     if (m_nbr_list.size() < total) {
@@ -659,6 +798,17 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, T> m_scratch_real;
   backend::Array<Space, double> m_scratch_double;
   backend::Array<Space, Vec3<T>> m_scratch_vec, m_scratch_vec_w;
+  // DCDEM rigid bodies (setBodies); none in a plain sphere run, and then no arrays.
+  int m_nb = 0;
+  backend::Array<Space, Vec3<T>> m_body_pos, m_body_vel, m_body_L, m_body_omega, m_body_force, m_body_torque;
+  backend::Array<Space, Quat<T>> m_body_q;
+  backend::Array<Space, Sym3<T>> m_body_inv_inertia;
+  backend::Array<Space, T> m_body_inv_mass;
+  backend::Array<Space, int> m_body_start;      // host numbers of body b's elements: [start[b], start[b + 1])
+  backend::Array<Space, Vec3<T>> m_elem_offset;  // body frame, by host number
+  backend::Array<Space, int> m_index_of_host;    // current index of each host number
+  backend::Array<Space, int> m_body_of, m_scratch_int2;  // body of each particle (current index), -1: sphere
+  backend::Array<Space, T> m_contact_mass;       // body mass for elements, own mass for spheres
 };
 
 }  // namespace millsim::dem
