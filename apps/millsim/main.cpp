@@ -41,11 +41,17 @@ millsim::scene::Scene loadScene(const std::string& path, const std::vector<std::
   return millsim::io::loadCaseFile(path, sets);
 }
 
+// What the particle count counts, for the first line of a run and of `check`.
+const char* particleNoun(const millsim::scene::Scene& scene) {
+  if (scene.effect_sph && !scene.effect_dem) return "SPH particles";
+  return scene.dem.representation == "dcdem" ? "DCDEM ball particles" : "balls";
+}
+
 int runCommand(const std::string& case_path, const std::vector<std::string>& sets, millsim::sim::RunOptions opt) {
   const millsim::scene::Scene scene = loadScene(case_path, sets);
   millsim::sim::Simulation sim(scene, opt);
   std::fprintf(stderr, "millsim: %s: %zu %s, dt = %.3g s%s, backend %s, out %s\n", scene.name.c_str(),
-               sim.particleCount(), scene.effect_sph && !scene.effect_dem ? "SPH particles" : "balls", sim.timeStep(),
+               sim.particleCount(), particleNoun(scene), sim.timeStep(),
                scene.effect_sph && !scene.effect_dem && scene.time.dt_mode == "auto" ? " (first, CFL)" : "", opt.backend.c_str(),
                opt.out_dir.c_str());
   const auto& s = sim.run();
@@ -364,7 +370,13 @@ int main(int argc, char** argv) {
   study_accuracy->add_flag("--quick", study_quick, "Cheapest levels of each axis (a smoke test)");
   study_accuracy->add_option("--out", study_out, "Output directory");
   study_accuracy->add_option("--source", study_source, "Directory holding cases/ (default: the source tree)");
-  std::string study_replot;
+  std::string study_replot, study_only, study_merge;
+  study_accuracy->add_option("--only", study_only,
+                             "Run only PROBLEM or PROBLEM:AXIS (dam_break_2d, hertz_impact, drum_300; e.g. "
+                             "drum_300:representation)");
+  study_accuracy->add_option("--merge", study_merge,
+                             "Merge the rows run into this earlier accuracy_cost.csv (same problem/axis/setting "
+                             "replaced) before writing --out");
   study_accuracy->add_option("--replot", study_replot,
                              "Redraw the CSV and plots into --out from an earlier accuracy_cost.csv, running nothing");
   study->require_subcommand(1);
@@ -411,7 +423,7 @@ int main(int argc, char** argv) {
       check.write_outputs = false;
       millsim::sim::Simulation sim(scene, check);
       std::cout << case_path << ": ok (" << scene.name << ", " << sim.particleCount()
-                << (scene.effect_sph && !scene.effect_dem ? " SPH particles" : " balls") << ", dt = " << sim.timeStep() << " s)" << std::endl;
+                << " " << particleNoun(scene) << ", dt = " << sim.timeStep() << " s)" << std::endl;
       return 0;
     }
     if (info->parsed()) return infoCommand();
@@ -426,8 +438,9 @@ int main(int argc, char** argv) {
     }
     if (compare_db->parsed()) return compareDamBreakCommand(db_dirs, db_a, db_g, db_png, db_labels);
     if (study_accuracy->parsed()) {
-      const auto rows = study_replot.empty() ? millsim::sim::runAccuracyStudy(study_quick, study_source)
-                                             : millsim::sim::readAccuracyStudy(study_replot);
+      auto rows = study_replot.empty() ? millsim::sim::runAccuracyStudy(study_quick, study_source, study_only)
+                                       : millsim::sim::readAccuracyStudy(study_replot);
+      if (!study_merge.empty()) rows = millsim::sim::mergeStudyRows(millsim::sim::readAccuracyStudy(study_merge), rows);
       millsim::sim::writeAccuracyStudy(rows, study_out);
       nlohmann::ordered_json j = nlohmann::ordered_json::array();
       for (const auto& r : rows)

@@ -368,6 +368,14 @@ Schema buildSchema() {
       number("dem", "impact_velocity", "m/s", above(0),
              [](Scene& sc) -> double& { return sc.dem.impact_velocity; },
              "Reference impact speed for the contact time t_c in dt = t_c / dt_divisor."),
+      choice("dem", "representation", {"sphere", "dcdem"},
+             [](Scene& sc) -> std::string& { return sc.dem.representation; },
+             "Balls as analytic spheres, or as DCDEM rigid bodies the way the paper's DualSPHysics set-up "
+             "builds them: particles on a cubic lattice of element_spacing filling each ball, contacts "
+             "particle on particle (bumpy surfaces, R* = element_spacing / 4). Drum cases without slurry."),
+      number("dem", "element_spacing", "m", above(0),
+             [](Scene& sc) -> double& { return sc.dem.element_spacing; },
+             "Particle spacing dp of the DCDEM balls (paper: 0.005); used with representation=\"dcdem\"."),
 
       number("drum", "diameter", "m", above(0),
              [](Scene& sc) -> double& { return sc.drum.diameter; },
@@ -632,6 +640,15 @@ Schema buildSchema() {
   };
 
   s.checks = {
+      {"dem", "element_spacing", "DCDEM balls: `dem.element_spacing` <= `charge.min_size` / 2; no slurry or stirrer",
+       [](const Scene& sc) -> std::string {
+         if (!sc.effect_dem || sc.dem.representation != "dcdem") return {};
+         if (sc.has_stirrer || sc.effect_sph) return "DCDEM balls are for drum cases without slurry (not coupled yet)";
+         if (sc.dem.element_spacing > 0.5 * sc.charge.min_size)
+           return "must be <= charge.min_size / 2 = " + formatNumber(0.5 * sc.charge.min_size) +
+                  " (m): a ball needs elements across it";
+         return {};
+       }},
       {"sph", "rhop_out_max", "`sph.rhop_out_min` < `sph.rhop_out_max`",
        [](const Scene& sc) -> std::string {
          if (!sc.effect_sph || sc.sph.rhop_out_min < sc.sph.rhop_out_max) return {};

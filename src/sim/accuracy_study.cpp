@@ -150,8 +150,14 @@ StudyRow drumAngle(const std::string& source_dir, bool quick, const std::string&
 
 }  // namespace
 
-std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir) {
+std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir, const std::string& only) {
   std::vector<StudyRow> rows;
+  // --only PROBLEM[:AXIS]: run just those rows (to add or redo an axis without the rest).
+  const std::size_t colon = only.find(':');
+  const std::string only_problem = only.substr(0, colon), only_axis = colon == std::string::npos ? "" : only.substr(colon + 1);
+  auto want = [&](const char* problem, const char* axis) {
+    return only.empty() || (only_problem == problem && (only_axis.empty() || only_axis == axis));
+  };
   const double a = 0.05715;
   // Dam break: one factor at a time around a base resolution (a/20 quick, a/40 full).
   const int base = quick ? 20 : 40;
@@ -162,48 +168,83 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
     return std::string(buf);
   };
   const std::string base_dp = dp(base);
-  for (int n : quick ? std::vector<int>{10, 20} : std::vector<int>{20, 40, 80})
-    rows.push_back(damBreak(source_dir, "dp", "a/" + std::to_string(n), {dp(n)}));
-  for (const char* k : {"cubic"})
-    rows.push_back(damBreak(source_dir, "kernel", k, {base_dp, std::string("sph.kernel=") + k}));
-  for (const char* d : {"none", "molteni"})
-    rows.push_back(damBreak(source_dir, "ddt", d, {base_dp, std::string("sph.ddt=") + d}));
-  rows.push_back(damBreak(source_dir, "integrator", "symplectic", {base_dp, "sph.integrator=symplectic"}));
-  for (const char* c : quick ? std::vector<const char*>{"0.3"} : std::vector<const char*>{"0.1", "0.3"})
-    rows.push_back(damBreak(source_dir, "cfl", c, {base_dp, std::string("sph.cfl=") + c}));
-  rows.push_back(damBreak(source_dir, "precision", "float", {base_dp}, true));
+  if (want("dam_break_2d", "dp"))
+    for (int n : quick ? std::vector<int>{10, 20} : std::vector<int>{20, 40, 80})
+      rows.push_back(damBreak(source_dir, "dp", "a/" + std::to_string(n), {dp(n)}));
+  if (want("dam_break_2d", "kernel"))
+    for (const char* k : {"cubic"}) rows.push_back(damBreak(source_dir, "kernel", k, {base_dp, std::string("sph.kernel=") + k}));
+  if (want("dam_break_2d", "ddt"))
+    for (const char* d : {"none", "molteni"}) rows.push_back(damBreak(source_dir, "ddt", d, {base_dp, std::string("sph.ddt=") + d}));
+  if (want("dam_break_2d", "integrator"))
+    rows.push_back(damBreak(source_dir, "integrator", "symplectic", {base_dp, "sph.integrator=symplectic"}));
+  if (want("dam_break_2d", "cfl"))
+    for (const char* c : quick ? std::vector<const char*>{"0.3"} : std::vector<const char*>{"0.1", "0.3"})
+      rows.push_back(damBreak(source_dir, "cfl", c, {base_dp, std::string("sph.cfl=") + c}));
+  if (want("dam_break_2d", "precision")) rows.push_back(damBreak(source_dir, "precision", "float", {base_dp}, true));
   // Hertz impact: dt divisor, stiffness, precision.
-  for (double n : quick ? std::vector<double>{10, 50} : std::vector<double>{10, 20, 50, 100, 400})
-    rows.push_back(hertzImpact("dt_divisor", "t_c/" + std::to_string(int(n)), n, 1e8, false));
-  for (double young : quick ? std::vector<double>{1e7} : std::vector<double>{1e7, 1e9, 2e11}) {
-    char label[32];
-    std::snprintf(label, sizeof label, "E = %.0e Pa", young);
-    rows.push_back(hertzImpact("youngs_modulus", label, 50, young, false));
-  }
-  rows.push_back(hertzImpact("precision", "float", 50, 1e8, true));
+  if (want("hertz_impact", "dt_divisor"))
+    for (double n : quick ? std::vector<double>{10, 50} : std::vector<double>{10, 20, 50, 100, 400})
+      rows.push_back(hertzImpact("dt_divisor", "t_c/" + std::to_string(int(n)), n, 1e8, false));
+  if (want("hertz_impact", "youngs_modulus"))
+    for (double young : quick ? std::vector<double>{1e7} : std::vector<double>{1e7, 1e9, 2e11}) {
+      char label[32];
+      std::snprintf(label, sizeof label, "E = %.0e Pa", young);
+      rows.push_back(hertzImpact("youngs_modulus", label, 50, young, false));
+    }
+  if (want("hertz_impact", "precision")) rows.push_back(hertzImpact("precision", "float", 50, 1e8, true));
 
   // 300 mm drum, balls only: angle of repose against the finest setting (t_c/200; quick: t_c/100).
   // A second charge seed at the case's settings gives the run-to-run noise floor of one angle.
-  const std::size_t drum0 = rows.size();
   const int finest = quick ? 100 : 200;
-  rows.push_back(drumAngle(source_dir, quick, "reference", "t_c/" + std::to_string(finest),
-                           {"time.dt_divisor=" + std::to_string(finest)}));
-  for (int n : quick ? std::vector<int>{50} : std::vector<int>{20, 50, 100})
-    rows.push_back(drumAngle(source_dir, quick, "dt_divisor", "t_c/" + std::to_string(n),
-                             {"time.dt_divisor=" + std::to_string(n)}));
+  if (want("drum_300", "reference"))
+    rows.push_back(drumAngle(source_dir, quick, "reference", "t_c/" + std::to_string(finest),
+                             {"time.dt_divisor=" + std::to_string(finest)}));
+  if (want("drum_300", "dt_divisor"))
+    for (int n : quick ? std::vector<int>{50} : std::vector<int>{20, 50, 100})
+      rows.push_back(drumAngle(source_dir, quick, "dt_divisor", "t_c/" + std::to_string(n),
+                               {"time.dt_divisor=" + std::to_string(n)}));
   if (!quick) {
-    rows.push_back(drumAngle(source_dir, quick, "seed", "charge seed 2", {"charge.seed=2"}));
-    for (double young : {1e7, 1e9, 2e11}) {
-      char label[32], set[64];
-      std::snprintf(label, sizeof label, "E = %.0e Pa", young);
-      std::snprintf(set, sizeof set, "dem.youngs_modulus=%.17g", young);
-      rows.push_back(drumAngle(source_dir, quick, "youngs_modulus", label, {set}));
-    }
-    rows.push_back(drumAngle(source_dir, quick, "precision", "float", {}, "float"));
+    if (want("drum_300", "seed")) rows.push_back(drumAngle(source_dir, quick, "seed", "charge seed 2", {"charge.seed=2"}));
+    if (want("drum_300", "youngs_modulus"))
+      for (double young : {1e7, 1e9, 2e11}) {
+        char label[32], set[64];
+        std::snprintf(label, sizeof label, "E = %.0e Pa", young);
+        std::snprintf(set, sizeof set, "dem.youngs_modulus=%.17g", young);
+        rows.push_back(drumAngle(source_dir, quick, "youngs_modulus", label, {set}));
+      }
+    if (want("drum_300", "precision")) rows.push_back(drumAngle(source_dir, quick, "precision", "float", {}, "float"));
+    // The paper's ball representation: DualSPHysics DCDEM bodies of 5 mm particles (t_c/50 of
+    // their element contacts), against analytic spheres.
+    if (want("drum_300", "representation"))
+      rows.push_back(drumAngle(source_dir, quick, "representation", "DCDEM balls, dp = 5 mm", {"dem.representation=dcdem"}));
   }
-  const double reference = rows[drum0].value;
-  for (std::size_t i = drum0; i < rows.size(); ++i) rows[i].error = std::abs(rows[i].value - reference);
+  fillDrumErrors(rows);
   return rows;
+}
+
+void fillDrumErrors(std::vector<StudyRow>& rows) {
+  double reference = std::nan("");
+  for (const StudyRow& r : rows)
+    if (r.problem == "drum_300" && r.axis == "reference") reference = r.value;
+  for (StudyRow& r : rows)
+    if (r.problem == "drum_300") r.error = std::abs(r.value - reference);
+}
+
+std::vector<StudyRow> mergeStudyRows(std::vector<StudyRow> base, const std::vector<StudyRow>& fresh) {
+  for (const StudyRow& f : fresh) {
+    auto same = std::find_if(base.begin(), base.end(), [&](const StudyRow& b) {
+      return b.problem == f.problem && b.axis == f.axis && b.setting == f.setting;
+    });
+    if (same != base.end()) {
+      *same = f;
+      continue;
+    }
+    // After the problem's last row, so each problem's rows stay together.
+    auto last = std::find_if(base.rbegin(), base.rend(), [&](const StudyRow& b) { return b.problem == f.problem; });
+    base.insert(last == base.rend() ? base.end() : last.base(), f);
+  }
+  fillDrumErrors(base);
+  return base;
 }
 
 std::vector<std::size_t> paretoFront(const std::vector<StudyRow>& rows, const std::string& problem) {

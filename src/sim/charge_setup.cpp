@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "dem/dcdem_bodies.hpp"
 #include "dem/dem_kernels.hpp"
 #include "millsim/core/error.hpp"
 
@@ -111,6 +112,18 @@ ChargeSetup buildCharge(const scene::Scene& s) {
   }
   c.mean_radius = mr / c.total_mass;
   return c;
+}
+
+DcdemCharge dcdemCharge(const dem::DemHostState& balls, double dp) {
+  dem::BodyAssembler a;
+  for (std::size_t i = 0; i < balls.size(); ++i) {
+    const core::Vec3<double> c{balls.pos[3 * i], balls.pos[3 * i + 1], balls.pos[3 * i + 2]};
+    std::vector<core::Vec3<double>> pts = dem::latticeBallPoints(balls.radius[i], dp);
+    for (auto& p : pts) p += c;
+    a.addBody(pts, 0.5 * dp, balls.mass[i], {balls.vel[3 * i], balls.vel[3 * i + 1], balls.vel[3 * i + 2]},
+              {balls.omega[3 * i], balls.omega[3 * i + 1], balls.omega[3 * i + 2]});
+  }
+  return {a.state(), a.bodies()};
 }
 
 }  // namespace millsim::sim

@@ -18,4 +18,14 @@ struct ChargeSetup {
 
 ChargeSetup buildCharge(const scene::Scene& s);
 
+// The same balls as DCDEM bodies (dem.representation = "dcdem"): each ball becomes the lattice
+// of element particles at spacing dp that fills it (dcdem_bodies.hpp), with the ball's mass and
+// velocities; the elements' radius is dp/2.
+struct DcdemCharge {
+  dem::DemHostState state;  // the elements
+  dem::DemBodies bodies;
+};
+
+DcdemCharge dcdemCharge(const dem::DemHostState& balls, double dp);
+
 }  // namespace millsim::sim

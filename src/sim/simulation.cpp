@@ -33,6 +33,9 @@ struct Simulation::Impl {
   scene::Scene scene;
   RunOptions options;
   ChargeSetup charge;
+  // DCDEM balls (dem.representation = "dcdem"): the engine's particles are their elements.
+  bool dcdem = false;
+  std::size_t particles = 0;
   std::unique_ptr<DrumMotion> motion;
   std::unique_ptr<dem::DemEngine> engine;
   RunSummary summary;
@@ -63,7 +66,16 @@ struct Simulation::Impl {
     if (scene.angle.enabled) angle = std::make_unique<vision::FrontViewAngle>(scene.drum.diameter, angleOptions());
     dt = chooseTimeStep();
     engine = makeEngine();
-    engine->setState(charge.state);
+    dcdem = scene.dem.representation == "dcdem";
+    if (dcdem) {
+      const DcdemCharge dc = dcdemCharge(charge.state, scene.dem.element_spacing);
+      engine->setState(dc.state);
+      engine->setBodies(dc.bodies);
+      particles = dc.state.size();
+    } else {
+      engine->setState(charge.state);
+      particles = charge.state.size();
+    }
     if (!options.restart.empty()) restoreCheckpoint();
     engine->initialize(motion->at(t, phi));
     sums0 = engine->sums();
@@ -77,11 +89,13 @@ struct Simulation::Impl {
     // Shortest Hertz contact: the smallest balls at the reference impact speed, ball-ball
     // (R* = r/2, m* = m/2) and ball-wall (R* = r, m* = factor * m). dt = t_c / N.
     const double e_star = dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
+    // DCDEM balls touch element on element: R* = dp/4 (pairs), dp/2 (walls), with the balls' masses.
     const double r = charge.min_radius, m = scene.dem.density * 4.0 / 3.0 * std::acos(-1.0) * r * r * r;
+    const double r_contact = scene.dem.representation == "dcdem" ? 0.5 * scene.dem.element_spacing : r;
     const double v = scene.dem.impact_velocity;
     const double factor = dem::wallMassFactor(dem::dampingModelFromName(scene.dem.damping));
-    const double tc = std::min(dem::hertzContactTime(0.5 * m, 0.5 * r, e_star, v),
-                               dem::hertzContactTime(factor * m, r, e_star, v));
+    const double tc = std::min(dem::hertzContactTime(0.5 * m, 0.5 * r_contact, e_star, v),
+                               dem::hertzContactTime(factor * m, r_contact, e_star, v));
     return tc / scene.time.dt_divisor;
   }
 
@@ -96,6 +110,10 @@ struct Simulation::Impl {
     setup.gravity = scene.gravity;
     setup.skin = 0.2 * charge.min_radius;
     setup.max_radius = charge.max_radius;
+    if (scene.dem.representation == "dcdem") {
+      setup.skin = 0.2 * scene.dem.element_spacing;
+      setup.max_radius = 0.5 * scene.dem.element_spacing;
+    }
     const double R = 0.5 * scene.drum.diameter, margin = 2 * charge.max_radius;
     setup.domain_lo = {-R - margin, -R - margin, -margin};
     setup.domain_hi = {R + margin, R + margin, charge.generation_length + margin};
@@ -124,13 +142,24 @@ struct Simulation::Impl {
     return opt;
   }
 
+  // The front view sees balls: DCDEM bodies are drawn as their balls (centre, ball radius).
   void captureFrame() {
+    std::vector<double> cx, cy;
+    if (dcdem) {
+      dem::DemBodies b;
+      engine->getBodies(b);
+      for (std::size_t k = 0; k < b.size(); ++k) {
+        cx.push_back(b.pos[3 * k]);
+        cy.push_back(b.pos[3 * k + 1]);
+      }
+      angle->addFrame(cx, cy, charge.state.radius);
+      return;
+    }
     dem::DemHostState s;
     engine->getState(s);
-    std::vector<double> cx(s.size()), cy(s.size());
     for (std::size_t i = 0; i < s.size(); ++i) {
-      cx[i] = s.pos[3 * i];
-      cy[i] = s.pos[3 * i + 1];
+      cx.push_back(s.pos[3 * i]);
+      cy.push_back(s.pos[3 * i + 1]);
     }
     angle->addFrame(cx, cy, s.radius);
   }
@@ -189,7 +218,7 @@ void Simulation::Impl::run() {
   summary.precision = engine->precisionName();
   summary.threads = summary.backend == std::string("omp") ? omp_get_max_threads() : 1;
   summary.dt = dt;
-  summary.particles = charge.state.size();
+  summary.particles = particles;
   summary.charge_mass_kg = charge.total_mass;
   summary.omega_rad_s = std::abs(motion->fullOmega());
 
@@ -312,6 +341,18 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
   cp.reals["dissipated"] = s.dissipated;
   cp.reals["work_in"] = s.work_in;
   cp.ints["hist_id"] = s.hist_id;
+  if (dcdem) {
+    dem::DemBodies b;
+    engine->getBodies(b);
+    cp.ints["body_start"].assign(b.start.begin(), b.start.end());
+    cp.reals["body_pos"] = b.pos;
+    cp.reals["body_vel"] = b.vel;
+    cp.reals["body_ang_mom"] = b.ang_mom;
+    cp.reals["body_quat"] = b.quat;
+    cp.reals["body_mass"] = b.mass;
+    cp.reals["body_inertia"] = b.inertia;
+    cp.reals["body_offset"] = b.offset;
+  }
   cp.scalars["phi"] = phi;
   cp.scalars["dt"] = dt;
   cp.scalars["steady_t0"] = steady_t0;
@@ -348,6 +389,21 @@ void Simulation::Impl::restoreCheckpoint() {
   s.work_in = real("work_in");
   s.hist_id = cp.ints.at("hist_id");
   engine->setState(s);
+  if (dcdem) {
+    if (!cp.ints.count("body_start"))
+      throw core::InputError(options.restart + ": checkpoint has no DCDEM bodies, the case asks for dcdem balls");
+    dem::DemBodies b;
+    const auto& start = cp.ints.at("body_start");
+    b.start.assign(start.begin(), start.end());
+    b.pos = real("body_pos");
+    b.vel = real("body_vel");
+    b.ang_mom = real("body_ang_mom");
+    b.quat = real("body_quat");
+    b.mass = real("body_mass");
+    b.inertia = real("body_inertia");
+    b.offset = real("body_offset");
+    engine->setBodies(b);
+  }
   t = cp.time;
   step = cp.step;
   auto sc = [&](const char* k) { return cp.scalars.count(k) ? cp.scalars.at(k) : 0.0; };
@@ -418,7 +474,7 @@ double Simulation::timeStep() const {
 }
 std::size_t Simulation::particleCount() const {
   if (m_stirred) return m_stirred->particleCount();
-  return m_sph ? m_sph->particleCount() : m_impl->charge.state.size();
+  return m_sph ? m_sph->particleCount() : m_impl->particles;
 }
 
 }  // namespace millsim::sim

@@ -421,6 +421,19 @@ TEST(CaseXmlErrors, IntegerWithDecimals) {
             "t.xml:3: <charge seed=\"-1\">: expected an integer in [0, 18446744073709551615]");
 }
 
+// DCDEM balls need elements across the smallest ball, and are not coupled to a fluid yet.
+TEST(CaseXmlErrors, DcdemBallsChecks) {
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"dcdem\" element_spacing=\"0.01\"/>")).what,
+            "t.xml:3: <dem element_spacing=\"0.01\">: must be <= charge.min_size / 2 = 0.0075 (m): a ball needs "
+            "elements across it");
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"dcdem\"/>"), {"dem.element_spacing=0.009"}).what,
+            "--set dem.element_spacing=0.009: must be <= charge.min_size / 2 = 0.0075 (m): a ball needs elements "
+            "across it");
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"blob\"/>")).what,
+            "t.xml:3: <dem representation=\"blob\">: expected one of sphere, dcdem");
+  EXPECT_EQ(loadCaseText(small("<dem/>", "<dem representation=\"dcdem\"/>"), "t.xml").dem.element_spacing, 0.005);
+}
+
 TEST(CaseXmlErrors, CrossFieldChecks) {
   EXPECT_EQ(textFailure(small("height=\"0.004\"", "height=\"0.025\"")).what,
             "t.xml:5: <lifters height=\"0.025\">: must be < drum.diameter / 4 = 0.025 (m)");
@@ -522,7 +535,8 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "gravity.x", "gravity.y", "gravity.z",
       "output.series_every", "output.fields_every", "output.checkpoint_every",
       "dem.youngs_modulus", "dem.poisson", "dem.density", "dem.restitution", "dem.friction",
-      "dem.damping", "dem.friction_smoothing", "dem.impact_velocity",
+      "dem.damping", "dem.friction_smoothing", "dem.impact_velocity", "dem.representation",
+      "dem.element_spacing",
       "drum.diameter", "drum.length", "drum.speed_rpm", "drum.critical_fraction",
       "drum.start_time", "drum.spin_up",
       "drum.lifters.count", "drum.lifters.height", "drum.lifters.width",

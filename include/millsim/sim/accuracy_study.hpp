@@ -14,7 +14,7 @@
 // - drum_300: the shipped 300 mm mill, balls only (cases/ball_mill_300_balls.xml, 12 s; --quick:
 //   4 s); error = |angle of repose - angle at t_c/200 (quick: t_c/100)| in degrees (the finest setting as the
 //   reference, as no analytic angle exists); a second charge seed shows the noise floor.
-//   Axes: time-step divisor, Young's modulus, precision.
+//   Axes: time-step divisor, Young's modulus, precision, ball representation (sphere / DCDEM).
 // --quick keeps each axis to its cheapest levels (CI smoke test).
 #include <string>
 #include <vector>
@@ -31,7 +31,15 @@ struct StudyRow {
   std::string backend = "omp";
 };
 
-std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir);
+// only: "" (everything), "PROBLEM" or "PROBLEM:AXIS" (e.g. "drum_300:representation").
+std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir, const std::string& only = "");
+
+// The drum's errors: |angle - the reference row's angle| (NaN without a reference row).
+void fillDrumErrors(std::vector<StudyRow>& rows);
+
+// Rows of an earlier study with fresh ones: a fresh row replaces the one with the same problem,
+// axis and setting, or joins its problem's rows; the drum's errors are recomputed.
+std::vector<StudyRow> mergeStudyRows(std::vector<StudyRow> base, const std::vector<StudyRow>& fresh);
 
 // OUT/accuracy_cost.csv and one Pareto plot per problem (OUT/pareto_<problem>.png).
 void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& out_dir);
