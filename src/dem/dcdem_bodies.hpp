@@ -19,14 +19,16 @@ class BodyAssembler {
  public:
   // Appends a body made of `points` (world positions) with element radius r_e and total mass,
   // moving with velocity v and angular velocity w (world frame) about its centre of mass.
+  // outer_radius: the ball it stands for (front view, fluid shell); 0: the elements' bounding
+  // radius about the centre.
   void addBody(const std::vector<core::Vec3<double>>& points, double element_radius, double mass,
-               std::array<double, 3> v = {0, 0, 0}, std::array<double, 3> w = {0, 0, 0});
+               std::array<double, 3> v = {0, 0, 0}, std::array<double, 3> w = {0, 0, 0}, double outer_radius = 0);
   const DemHostState& state() const { return m_state; }
   const DemBodies& bodies() const { return m_bodies; }
 
  private:
   DemHostState m_state;
-  DemBodies m_bodies{{0}, {}, {}, {}, {}, {}, {}, {}};
+  DemBodies m_bodies{{0}, {}, {}, {}, {}, {}, {}, {}, {}};
 };
 
 }  // namespace millsim::dem

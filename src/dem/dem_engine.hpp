@@ -55,6 +55,7 @@ struct DemBodies {
   std::vector<double> mass;
   std::vector<double> inertia;    // body frame, about the centre: xx, yy, zz, xy, xz, yz per body
   std::vector<double> offset;     // element positions in the body frame, 3 per element
+  std::vector<double> radius;     // the ball's radius (front view, fluid shell), per body
   std::size_t size() const { return mass.size(); }
   int elements() const { return start.empty() ? 0 : start.back(); }
 };
@@ -98,7 +99,8 @@ class DemEngine {
   virtual std::map<std::string, std::size_t> memoryBytes() const = 0;
   virtual std::int64_t neighbourRebuilds() const = 0;
   // Forces and torques from outside the DEM (the fluid on each ball in a wet mill), 3 per ball in
-  // host order, held until the next call and added every step. Their work is booked in
+  // host order (per body, in body order, when there are DCDEM bodies), held until the next call
+  // and added every step. Their work is booked in
   // DemSums::work_external. Empty vectors switch them off.
   virtual void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) = 0;
   // Stirred mill: the same step with the stirrer's walls (and lubrication when set up).
@@ -108,6 +110,11 @@ class DemEngine {
   // Per bead, in host numbering: tallies (collision_stats.hpp).
   virtual void collisionTallies(std::vector<CollisionTally>& out) const = 0;
 };
+
+// The balls as the fluid and the observers see them: one entry per DCDEM body (its centre,
+// velocity, angular velocity, mass and ball radius; inertia and history empty) when the engine
+// has bodies, else the particles themselves.
+DemHostState ballStates(const DemEngine& engine);
 
 std::unique_ptr<DemEngine> makeDemEngineOmp(const DemSetup& setup, bool single_precision);
 #if defined(MILLSIM_HAVE_CUDA)

@@ -182,7 +182,8 @@ class DemSolver final : public DemEngine {
     const int ne = b.elements();
     if (static_cast<int>(b.start.size()) != m_nb + 1 || ne > m_n || b.offset.size() != 3 * std::size_t(ne) ||
         b.pos.size() != 3 * std::size_t(m_nb) || b.vel.size() != b.pos.size() || b.ang_mom.size() != b.pos.size() ||
-        b.quat.size() != 4 * std::size_t(m_nb) || b.inertia.size() != 6 * std::size_t(m_nb))
+        b.quat.size() != 4 * std::size_t(m_nb) || b.inertia.size() != 6 * std::size_t(m_nb) ||
+        b.radius.size() != std::size_t(m_nb))
       throw std::invalid_argument("DemSolver::setBodies: inconsistent body arrays");
     std::vector<Vec3<T>> pos(m_nb), vel(m_nb), L(m_nb), omega(m_nb), offset(ne);
     std::vector<Quat<T>> q(m_nb);
@@ -231,6 +232,8 @@ class DemSolver final : public DemEngine {
     m_inv_mass.copyFromHost(inv_mass_p);
     m_index_of_host.resize(m_n, 0);
     m_scratch_int2.resize(m_n, 0);
+    m_body_radius = b.radius;
+    m_has_body_external = false;
     // The elements start exactly on their bodies.
     backend::parallelFor(Space{}, m_n, InvertIds{m_id.data(), m_index_of_host.data()});
     placeElements();
@@ -262,6 +265,7 @@ class DemSolver final : public DemEngine {
       b.inertia.insert(b.inertia.end(), {I.xx, I.yy, I.zz, I.xy, I.xz, I.yz});
     }
     for (const Vec3<T>& o : offset) b.offset.insert(b.offset.end(), {double(o.x), double(o.y), double(o.z)});
+    b.radius = m_body_radius;
   }
 
   void getState(DemHostState& s) const override {
@@ -402,6 +406,10 @@ class DemSolver final : public DemEngine {
     if (!(moved2 < T(1e29))) throw core::SimulationError("DEM: non-finite particle position (NaN or Inf): the step diverged");
     if (moved2 > half_skin * half_skin) rebuildNeighbours();
     computeForces(walls, dt);
+    if (m_has_body_external)
+      backend::parallelFor(Space{}, m_nb,
+                           BodyExternalWork<T>{bodyView(), m_body_ext_force.data(), m_body_ext_torque.data(),
+                                               m_body_work_ext.data(), dt});
     backend::parallelFor(Space{}, m_n, Kick<T>{view(), dt});
     if (m_nb > 0) {
       bodyLoads();
@@ -420,6 +428,8 @@ class DemSolver final : public DemEngine {
     s.work_in = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_work_in.data()});
     if (m_work_external.size() == static_cast<std::size_t>(m_n))
       s.work_external = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_work_external.data()});
+    if (m_body_work_ext.size() == static_cast<std::size_t>(m_nb) && m_nb > 0)
+      s.work_external = backend::reduceSum<double>(Space{}, m_nb, ReadDouble<T>{m_body_work_ext.data()});
     s.elastic = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_elastic.data()});
     s.drum_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_drum_torque.data()});
     s.max_speed = backend::reduceMax<double>(Space{}, m_n, 0.0, Speed<T>{m_vel.data()});
@@ -452,7 +462,8 @@ class DemSolver final : public DemEngine {
             {"dem.bodies", m_body_pos.bytes() + m_body_vel.bytes() + m_body_L.bytes() + m_body_omega.bytes() +
                                m_body_q.bytes() + m_body_force.bytes() + m_body_torque.bytes() + m_body_inv_mass.bytes() +
                                m_body_inv_inertia.bytes() + m_body_start.bytes() + m_elem_offset.bytes() +
-                               m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() + m_scratch_int2.bytes()},
+                               m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() + m_scratch_int2.bytes() +
+                               m_body_ext_force.bytes() + m_body_ext_torque.bytes() + m_body_work_ext.bytes()},
             {"dem.lubrication", m_lub_dissipated.bytes()},
             {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
                               m_old_list.bytes() + m_pos_ref.bytes()}};
@@ -461,6 +472,10 @@ class DemSolver final : public DemEngine {
   std::int64_t neighbourRebuilds() const override { return m_rebuilds; }
 
   void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) override {
+    if (m_nb > 0) {
+      setBodyExternalForces(force, torque);
+      return;
+    }
     if (force.empty() && !m_has_external) return;
     std::vector<Vec3<T>> f(m_n, core::zero3<T>()), t(m_n, core::zero3<T>());
     if (!force.empty()) {
@@ -508,8 +523,30 @@ class DemSolver final : public DemEngine {
   }
 
   void bodyLoads() {
-    backend::parallelFor(Space{}, m_nb,
-                         BodyLoads<T>{bodyView(), m_index_of_host.data(), m_pos.data(), m_force.data(), m_torque.data()});
+    BodyLoads<T> loads{bodyView(), m_index_of_host.data(), m_pos.data(), m_force.data(), m_torque.data()};
+    if (m_has_body_external) {
+      loads.ext_force = m_body_ext_force.data();
+      loads.ext_torque = m_body_ext_torque.data();
+    }
+    backend::parallelFor(Space{}, m_nb, loads);
+  }
+
+  // DCDEM bodies take the external load per body (3 values per body, body order), held until
+  // the next call and added to the summed element loads (BodyLoads), so a load is never split
+  // over elements. Its work is booked per body at each contact pass (BodyExternalWork).
+  void setBodyExternalForces(const std::vector<double>& force, const std::vector<double>& torque) {
+    if (force.empty() && !m_has_body_external) return;
+    if (!force.empty() && (force.size() != 3 * static_cast<std::size_t>(m_nb) || torque.size() != force.size()))
+      throw std::invalid_argument("DemSolver::setExternalForces: expected 3 values per body");
+    std::vector<Vec3<T>> f(m_nb, core::zero3<T>()), t(m_nb, core::zero3<T>());
+    for (int k = 0; k < m_nb && !force.empty(); ++k) {
+      f[k] = get3(force, k);
+      t[k] = get3(torque, k);
+    }
+    m_body_ext_force.copyFromHost(f);
+    m_body_ext_torque.copyFromHost(t);
+    if (m_body_work_ext.size() != static_cast<std::size_t>(m_nb)) m_body_work_ext.resize(m_nb, 0.0);
+    m_has_body_external = !force.empty();
   }
 
   void placeElements() {
@@ -809,6 +846,11 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, int> m_index_of_host;    // current index of each host number
   backend::Array<Space, int> m_body_of, m_scratch_int2;  // body of each particle (current index), -1: sphere
   backend::Array<Space, T> m_contact_mass;       // body mass for elements, own mass for spheres
+  std::vector<double> m_body_radius;             // host only: the balls' radii (getBodies)
+  // Loads from outside (the fluid) per body, and their work; only in coupled runs.
+  bool m_has_body_external = false;
+  backend::Array<Space, Vec3<T>> m_body_ext_force, m_body_ext_torque;
+  backend::Array<Space, double> m_body_work_ext;
 };
 
 }  // namespace millsim::dem

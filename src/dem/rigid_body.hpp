@@ -173,8 +173,14 @@ struct BodyLoads {
   const Vec3<T>* elem_pos;
   const Vec3<T>* elem_force;
   const Vec3<T>* elem_torque;
+  const Vec3<T>* ext_force = nullptr;  // per body, held (the fluid's), or none
+  const Vec3<T>* ext_torque = nullptr;
   MILLSIM_HD void operator()(int k) const {
     Vec3<T> f = core::zero3<T>(), tq = core::zero3<T>();
+    if (ext_force) {
+      f = ext_force[k];
+      tq = ext_torque[k];
+    }
     const Vec3<T> c = b.pos[k];
     for (int h = b.start[k]; h < b.start[k + 1]; ++h) {
       const int i = index_of_host[h];
@@ -184,6 +190,20 @@ struct BodyLoads {
     }
     b.force[k] = f;
     b.torque[k] = tq;
+  }
+};
+
+// Work of a held external load on body k over a step: its power at the contact pass (V and
+// Omega at the half step, as for spheres) times dt.
+template <class T>
+struct BodyExternalWork {
+  BodyView<T> b;
+  const Vec3<T>* ext_force;
+  const Vec3<T>* ext_torque;
+  double* work;
+  T dt;
+  MILLSIM_HD void operator()(int k) const {
+    work[k] += double(core::dot(ext_force[k], b.vel[k]) + core::dot(ext_torque[k], b.omega[k])) * double(dt);
   }
 };
 

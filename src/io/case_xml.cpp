@@ -640,10 +640,10 @@ Schema buildSchema() {
   };
 
   s.checks = {
-      {"dem", "element_spacing", "DCDEM balls: `dem.element_spacing` <= `charge.min_size` / 2; no slurry or stirrer",
+      {"dem", "element_spacing", "DCDEM balls: `dem.element_spacing` <= `charge.min_size` / 2; drum cases only",
        [](const Scene& sc) -> std::string {
          if (!sc.effect_dem || sc.dem.representation != "dcdem") return {};
-         if (sc.has_stirrer || sc.effect_sph) return "DCDEM balls are for drum cases without slurry (not coupled yet)";
+         if (sc.has_stirrer) return "DCDEM balls are for drum cases (the stirred mill's beads are spheres)";
          if (sc.dem.element_spacing > 0.5 * sc.charge.min_size)
            return "must be <= charge.min_size / 2 = " + formatNumber(0.5 * sc.charge.min_size) +
                   " (m): a ball needs elements across it";

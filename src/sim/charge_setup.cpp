@@ -121,7 +121,7 @@ DcdemCharge dcdemCharge(const dem::DemHostState& balls, double dp) {
     std::vector<core::Vec3<double>> pts = dem::latticeBallPoints(balls.radius[i], dp);
     for (auto& p : pts) p += c;
     a.addBody(pts, 0.5 * dp, balls.mass[i], {balls.vel[3 * i], balls.vel[3 * i + 1], balls.vel[3 * i + 2]},
-              {balls.omega[3 * i], balls.omega[3 * i + 1], balls.omega[3 * i + 2]});
+              {balls.omega[3 * i], balls.omega[3 * i + 1], balls.omega[3 * i + 2]}, balls.radius[i]);
   }
   return {a.state(), a.bodies()};
 }

@@ -145,18 +145,7 @@ struct Simulation::Impl {
   // The front view sees balls: DCDEM bodies are drawn as their balls (centre, ball radius).
   void captureFrame() {
     std::vector<double> cx, cy;
-    if (dcdem) {
-      dem::DemBodies b;
-      engine->getBodies(b);
-      for (std::size_t k = 0; k < b.size(); ++k) {
-        cx.push_back(b.pos[3 * k]);
-        cy.push_back(b.pos[3 * k + 1]);
-      }
-      angle->addFrame(cx, cy, charge.state.radius);
-      return;
-    }
-    dem::DemHostState s;
-    engine->getState(s);
+    const dem::DemHostState s = dem::ballStates(*engine);
     for (std::size_t i = 0; i < s.size(); ++i) {
       cx.push_back(s.pos[3 * i]);
       cy.push_back(s.pos[3 * i + 1]);
@@ -288,9 +277,7 @@ void Simulation::Impl::run() {
       }
       if (t >= t_end - 0.5 * dt) break;
       if (scene.effect_sph && !wet && t >= scene.drum.start_time - 0.5 * dt) {
-        dem::DemHostState balls;
-        engine->getState(balls);
-        wet = std::make_unique<WetMill>(scene, options, balls, phi, t);
+        wet = std::make_unique<WetMill>(scene, options, dem::ballStates(*engine), phi, t);
       }
       if (wet) {
         wet->advance(*engine, *motion, t, phi, step, dt);
@@ -352,6 +339,7 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
     cp.reals["body_mass"] = b.mass;
     cp.reals["body_inertia"] = b.inertia;
     cp.reals["body_offset"] = b.offset;
+    cp.reals["body_radius"] = b.radius;
   }
   cp.scalars["phi"] = phi;
   cp.scalars["dt"] = dt;
@@ -402,6 +390,7 @@ void Simulation::Impl::restoreCheckpoint() {
     b.mass = real("body_mass");
     b.inertia = real("body_inertia");
     b.offset = real("body_offset");
+    b.radius = real("body_radius");
     engine->setBodies(b);
   }
   t = cp.time;

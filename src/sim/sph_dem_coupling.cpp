@@ -58,9 +58,7 @@ double SphDemCoupling::advance(sph::SphEngine& sph, dem::DemEngine& dem,
     for (int a = 0; a < 3; ++a) m_held_impulse[k][a] += impulse[m_balls + k].force[a];
   const sph::SphMotion end = dem_steps(dt);
   if (m_balls > 0) {
-    dem::DemHostState s;
-    dem.getState(s);
-    readBalls(s);
+    readBalls(dem::ballStates(dem));
   }
   sph.setBodyKinematics(bodiesAt(0));
   sph.endStep(dt, end);

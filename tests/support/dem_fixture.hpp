@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dem/contact/damping.hpp"
+#include "dem/dcdem_bodies.hpp"
 #include "dem/dem_engine.hpp"
 #include "dem/dem_kernels.hpp"
 
@@ -100,6 +101,28 @@ inline dem::DemSetup drumSetup(double e, double mu, double r_min, double r_max, 
   setup.domain_lo = lo;
   setup.domain_hi = hi;
   return setup;
+}
+
+// DCDEM bodies (an assembled set of element particles) with the scene's material, skin 0.2 of
+// the element radius, cells over [lo, hi].
+inline std::unique_ptr<dem::DemEngine> makeBodyEngine(const DemScene& sc, const dem::BodyAssembler& a,
+                                                      double element_radius, std::array<double, 3> lo,
+                                                      std::array<double, 3> hi) {
+  dem::DemSetup setup;
+  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
+  setup.alpha = dem::dampingAlpha(sc.damping, sc.restitution);
+  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
+  setup.friction = sc.friction;
+  setup.gravity = sc.gravity;
+  setup.skin = 0.2 * element_radius;
+  setup.max_radius = element_radius;
+  setup.domain_lo = lo;
+  setup.domain_hi = hi;
+  auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
+  engine->setState(a.state());
+  engine->setBodies(a.bodies());
+  engine->initialize(stillDrum());
+  return engine;
 }
 
 inline dem::DemHostState state(const dem::DemEngine& e) {

@@ -23,21 +23,7 @@ constexpr double kBallR = 0.0175;  // its largest ball (35 mm)
 std::unique_ptr<dem::DemEngine> makeBodyEngine(const DemScene& sc, const dem::BodyAssembler& a,
                                                std::array<double, 3> lo = {-0.2, -0.2, 0.3},
                                                std::array<double, 3> hi = {0.2, 0.2, 0.7}) {
-  dem::DemSetup setup;
-  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
-  setup.alpha = dem::dampingAlpha(sc.damping, sc.restitution);
-  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
-  setup.friction = sc.friction;
-  setup.gravity = sc.gravity;
-  setup.skin = 0.2 * 0.5 * kDp;
-  setup.max_radius = 0.5 * kDp;
-  setup.domain_lo = lo;
-  setup.domain_hi = hi;
-  auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
-  engine->setState(a.state());
-  engine->setBodies(a.bodies());
-  engine->initialize(millsim::testing::stillDrum());
-  return engine;
+  return millsim::testing::makeBodyEngine(sc, a, 0.5 * kDp, lo, hi);
 }
 
 std::vector<Vec3<double>> shifted(std::vector<Vec3<double>> pts, Vec3<double> c) {

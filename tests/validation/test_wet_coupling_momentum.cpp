@@ -39,7 +39,9 @@ struct MomentumRun {
   long long steps = 0;
 };
 
-MomentumRun runBox(const std::string& integrator) {
+// dcdem: the balls are DCDEM bodies (lattice particles at the fluid's dp, dem_fixture), loaded
+// per body; else analytic spheres.
+MomentumRun runBox(const std::string& integrator, bool dcdem = false) {
   const double dp = 0.01, L = 0.16, rho0 = 1000, z0 = 1.0;  // z0: clear of the DEM drum's front plate
   sph::SphSetup s;
   s.dimension = 3;
@@ -77,11 +79,22 @@ MomentumRun runBox(const std::string& integrator) {
 
   testing::DemScene dsc;
   dsc.density = ball_density;
-  auto dem = testing::makeEngine(dsc, balls);
+  std::unique_ptr<dem::DemEngine> dem;
+  if (dcdem) {
+    dem::BodyAssembler a;
+    for (const auto& b : balls) {
+      std::vector<core::Vec3<double>> pts = dem::latticeBallPoints(b.r, dp);
+      for (auto& p : pts) p += core::Vec3<double>{b.x, b.y, b.z};
+      a.addBody(pts, 0.5 * dp, testing::ballMass(b.r, ball_density), {b.vx, b.vy, b.vz}, {0, 0, 0}, b.r);
+    }
+    dem = testing::makeBodyEngine(dsc, a, 0.5 * dp, s.domain_lo, s.domain_hi);
+  } else {
+    dem = testing::makeEngine(dsc, balls);
+  }
   auto sph = sph::makeSphEngineOmp(s);
   sph->setState(st);
   sim::SphDemCoupling coupling(balls.size(), {sph::SphBody{centre, {}, {}}});
-  coupling.initialize(*sph, testing::state(*dem), {});
+  coupling.initialize(*sph, dem::ballStates(*dem), {});
 
   const double fluid_mass = rho0 * dp * dp * dp;
   auto total = [&](double* fluid_abs, double* wall_abs) {
@@ -91,7 +104,7 @@ MomentumRun runBox(const std::string& integrator) {
     for (std::size_t i = 0; i < now.size(); ++i)
       if (now.code[i] == sph::kFluid)
         for (int a = 0; a < 3; ++a) pf[a] += fluid_mass * now.vel[3 * i + a];
-    const dem::DemHostState d = testing::state(*dem);
+    const dem::DemHostState d = dem::ballStates(*dem);
     const auto& wall = coupling.heldImpulse()[0];
     for (int a = 0; a < 3; ++a) {
       p[a] = pf[a] + wall[a];
@@ -146,6 +159,8 @@ void expectConserved(const MomentumRun& r) {
 TEST(WetCouplingMomentum, ClosedBoxSymplectic) { expectConserved(runBox("symplectic")); }
 
 TEST(WetCouplingMomentum, ClosedBoxVerlet) { expectConserved(runBox("verlet")); }
+// The same with DCDEM balls: the fluid's load goes to each body whole (not split over elements).
+TEST(WetCouplingMomentum, ClosedBoxVerletDcdemBalls) { expectConserved(runBox("verlet", true)); }
 
 }  // namespace
 }  // namespace millsim
