@@ -457,8 +457,14 @@ int main(int argc, char** argv) {
     std::cerr << "millsim: error: " << e.what() << std::endl;
     return 2;
   } catch (const SimulationError& e) {
-    std::cerr << "\nmillsim: simulation stopped: " << e.what() << " (last good state: " << opt.out_dir
-              << "/checkpoint.h5)" << std::endl;
+    // Point at the last good state the run left: its checkpoint, else its last fields frame.
+    const std::filesystem::path out(opt.out_dir);
+    std::string kept = "nothing but series.csv and summary.json in " + opt.out_dir;
+    if (std::filesystem::exists(out / "checkpoint.h5"))
+      kept = (out / "checkpoint.h5").string();
+    else if (std::filesystem::exists(out / "fields.xdmf"))
+      kept = "the last frame of " + (out / "fields.xdmf").string();
+    std::cerr << "\nmillsim: simulation stopped: " << e.what() << " (last good state: " << kept << ")" << std::endl;
     return 3;
   } catch (const std::exception& e) {
     std::cerr << "millsim: error: " << e.what() << std::endl;

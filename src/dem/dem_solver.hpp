@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -170,6 +171,7 @@ class DemSolver final : public DemEngine {
     m_scratch_vec_w.resize(n * kWallSlots, core::zero3<T>());
     m_old_of_new.resize(n, 0);
     m_nb = 0;  // bodies, if any, come with setBodies
+    m_steps = 0;
     // Stirred-mill arrays exist only once a stirred step runs (allocateStirred).
     m_tally.resize(0);
     m_lub_dissipated.resize(0);
@@ -393,6 +395,7 @@ class DemSolver final : public DemEngine {
 
   template <class Walls>
   void stepWith(const Walls& walls, T dt) {
+    ++m_steps;
     // Before KickDrift clears the element forces (a new held external load may have changed them).
     if (m_nb > 0) bodyLoads();
     backend::parallelFor(Space{}, m_n, KickDrift<T>{view(), dt});
@@ -403,7 +406,7 @@ class DemSolver final : public DemEngine {
     }
     const T half_skin = T(0.5 * m_setup.skin);
     const T moved2 = backend::reduceMax<T>(Space{}, m_n, T(0), DisplacementSq<T>{m_pos.data(), m_pos_ref.data()});
-    if (!(moved2 < T(1e29))) throw core::SimulationError("DEM: non-finite particle position (NaN or Inf): the step diverged");
+    if (!(moved2 < T(1e29))) throw divergence(dt);
     if (moved2 > half_skin * half_skin) rebuildNeighbours();
     computeForces(walls, dt);
     if (m_has_body_external)
@@ -502,6 +505,27 @@ class DemSolver final : public DemEngine {
 
  private:
   static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
+
+  // The error a diverged step stops the run with: the first particle that moved more than 3e14 m
+  // or to NaN/Inf since the last neighbour build (by host number), where it was at the last neighbour build, its velocity, the step.
+  core::SimulationError divergence(T dt) const {
+    std::vector<Vec3<T>> pos, ref, vel;
+    std::vector<int> id;
+    m_pos.copyToHost(pos);
+    m_pos_ref.copyToHost(ref);
+    m_vel.copyToHost(vel);
+    m_id.copyToHost(id);
+    std::size_t bad = 0;
+    while (bad + 1 < pos.size() && core::norm2(pos[bad] - ref[bad]) < T(1e29)) ++bad;  // stepWith's test
+    std::ostringstream m;
+    m << "DEM: particle " << (id.empty() ? 0 : id[bad]) << " diverged at solver step " << m_steps
+      << ": position (" << pos[bad].x << ", " << pos[bad].y << ", " << pos[bad].z << ") m, at the last neighbour "
+      << "build (" << ref[bad].x << ", " << ref[bad].y << ", " << ref[bad].z << ") m, velocity (" << vel[bad].x
+      << ", " << vel[bad].y << ", " << vel[bad].z << ") m/s. Likely cause: dt = " << double(dt)
+      << " s is too large for the stiffest contact or lubrication film (use the automatic time step, or a "
+         "larger dt_divisor)";
+    return core::SimulationError(m.str());
+  }
   static void put3(std::vector<double>& v, std::size_t i, Vec3<T> a) {
     v[3 * i] = double(a.x);
     v[3 * i + 1] = double(a.y);
@@ -809,6 +833,7 @@ class DemSolver final : public DemEngine {
   HertzParams<T> m_law;
   int m_n = 0;
   std::int64_t m_rebuilds = 0;
+  std::int64_t m_steps = 0;  // steps since setState (for error messages)
   bool m_sums_cleared = false;  // KickDrift cleared the force sums since the last contact pass
   neighbors::CellList<Space, T> m_cells;
   PartnerScatter<Space, T> m_scatter;

@@ -133,6 +133,14 @@ io::FieldFrame fieldFrame(double t, long long step, const std::vector<double>& p
   return f;
 }
 
+io::FieldFrame demFieldFrame(double t, long long step, const dem::DemHostState& s) {
+  io::FieldFrame f = fieldFrame(t, step, s.pos, s.vel);
+  f.arrays.push_back({"angular_velocity", 3, std::vector<float>(s.omega.begin(), s.omega.end())});
+  f.arrays.push_back({"radius", 1, std::vector<float>(s.radius.begin(), s.radius.end())});
+  f.arrays.push_back({"dissipated_energy", 1, std::vector<float>(s.dissipated.begin(), s.dissipated.end())});
+  return f;
+}
+
 ProgressLine::ProgressLine(bool enabled, double t_end) : m_enabled(enabled), m_t_end(t_end) {
   m_start = m_last = std::chrono::steady_clock::now();
 }

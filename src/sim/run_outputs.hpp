@@ -1,6 +1,7 @@
 #pragma once
 // Writers for what a run leaves in OUT/: series.csv (one row per series interval, flushed so a
 // crash loses nothing written), summary.json, and the progress line on a terminal.
+#include "dem/dem_engine.hpp"
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -32,6 +33,9 @@ nlohmann::ordered_json memoryJson(const std::map<std::string, std::size_t>& memo
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::ordered_json& j);
 // A fields snapshot with positions and velocities (3 per particle); callers add their arrays.
 io::FieldFrame fieldFrame(double t, long long step, const std::vector<double>& pos, const std::vector<double>& vel);
+// A DEM snapshot: positions, velocities, angular velocities, radii and the energy each particle
+// has dissipated (drum and stirred runs).
+io::FieldFrame demFieldFrame(double t, long long step, const dem::DemHostState& s);
 
 // Status, simulated time, steps and wall time since wall0, at the end of a run loop.
 void markRunEnd(RunSummary& s, const std::string& status, double t, long long steps,

@@ -235,12 +235,7 @@ void Simulation::Impl::run() {
   auto writeFields = [&]() {
     dem::DemHostState s;
     engine->getState(s);
-    io::FieldFrame f = fieldFrame(t, step, s.pos, s.vel);
-    f.arrays.push_back({"angular_velocity", 3, std::vector<float>(s.omega.begin(), s.omega.end())});
-    f.arrays.push_back({"radius", 1, std::vector<float>(s.radius.begin(), s.radius.end())});
-    std::vector<float> diss(s.dissipated.begin(), s.dissipated.end());
-    f.arrays.push_back({"dissipated_energy", 1, diss});
-    fields->write(f);
+    fields->write(demFieldFrame(t, step, s));
   };
 
   try {

@@ -23,6 +23,7 @@
 #include "dem/walls/stirrer_walls.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
+#include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
 #include "sim/run_outputs.hpp"
 
@@ -335,6 +336,15 @@ void StirredRun::Impl::run() {
                                  "lubrication_dissipated_J", "energy_residual_J", "max_speed_m_s", "contacts_per_bead",
                                  "wall_time_s"},
         false);
+  // Bead snapshots (ParaView); also the last good state a failed run leaves on disk.
+  std::unique_ptr<io::FieldsWriter> fields;
+  if (options.write_outputs && scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, false);
+  double next_fields = 0;
+  auto writeFields = [&]() {
+    dem::DemHostState s;
+    engine->getState(s);
+    fields->write(demFieldFrame(t, step, s));
+  };
   const double t_end = endTime();
   levels.clear();
   for (std::size_t k = 0; k < rpm.size(); ++k) {
@@ -416,6 +426,10 @@ void StirredRun::Impl::run() {
         if (stats_t0 < 0) stats_t0 = t;
         sampleCollisions();
         next_sample += scene.collisions.sample_every;
+      }
+      if (fields && t >= next_fields - 1e-9 * dt) {
+        writeFields();
+        next_fields += scene.output.fields_every;
       }
       if (t >= t_end - 0.5 * dt) break;
       phi += omegaAt(t + dt) * dt;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "millsim/core/error.hpp"
 #include "support/case_run.hpp"
 
 namespace {
@@ -25,6 +26,44 @@ TEST(StirredStability, FourThousandRpmWithOnePascalSecond) {
   const double tip = 0.038 * 4000 * 2 * 3.14159265358979323846 / 60;
   EXPECT_LT(*std::max_element(speed.begin(), speed.end()), 2 * tip);
   EXPECT_LT(std::abs(double(r.summary["stirred"]["energy"]["residual_relative"])), 0.02);
+}
+
+}  // namespace
+
+namespace {
+
+// The guard, not the physics: the same case with the seed's film at 1e-5 d and a fixed step
+// that ignores the film's time-step limit (1.76e-6 s instead of ~2e-8 s) diverges within ~20
+// steps. The run must stop with the cause (the particle, the step, the likely cause), keep the
+// last good state (its fields frames), and record the failure in summary.json; before the cell index was
+// clamped in floating point, a position past 2^31 cells crashed the neighbour build instead.
+TEST(StirredStability, DivergingStepStopsWithTheParticleAndTheCause) {
+  const std::string out = (std::filesystem::temp_directory_path() / "millsim_test_stirred_diverge").string();
+  std::filesystem::remove_all(out);
+  const auto scene = millsim::io::loadCaseFile(
+      std::string(MILLSIM_SOURCE_DIR) + "/cases/stirred_mill_ls1_small.xml",
+      {"stirrer.speeds_rpm=4000", "stirrer.ramp=0.002", "stirrer.hold=0.01", "lubrication.viscosity=1",
+       "lubrication.inner=0.00001", "time.dt=fixed", "time.dt_fixed=1.76e-6"});
+  millsim::sim::RunOptions opt;
+  opt.out_dir = out;
+  opt.threads = 1;
+  opt.backend = "omp";
+  millsim::sim::Simulation sim(scene, opt);
+  std::string what;
+  try {
+    sim.run();
+  } catch (const millsim::core::SimulationError& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("DEM: particle "), std::string::npos) << what;
+  EXPECT_NE(what.find("diverged at solver step"), std::string::npos) << what;
+  EXPECT_NE(what.find("Likely cause: dt = 1.76e-06 s"), std::string::npos) << what;
+  // The last good state: the fields frame written at t = 0 (the run fails before the next).
+  EXPECT_TRUE(std::filesystem::exists(out + "/fields.xdmf"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/series.csv"));
+  std::ifstream js(out + "/summary.json");
+  const auto summary = nlohmann::json::parse(js);
+  EXPECT_EQ(summary["status"], "failed");
 }
 
 }  // namespace

@@ -18,10 +18,13 @@ struct CellGrid {
 
   MILLSIM_HD int cellCount() const { return nx * ny * nz; }
 
+  // Clamped in floating point before the conversion: a point far outside (a diverging run,
+  // before the NaN check stops it) would overflow int, which is undefined and gave negative
+  // cell keys (a crash instead of the run's error message). NaN goes to cell 0.
   MILLSIM_HD static int clampIndex(T v, int n) {
-    int c = static_cast<int>(v);  // v >= 0 here truncates like floor; negatives clamp below
-    if (v < T(0)) c = 0;
-    return c >= n ? n - 1 : c;
+    if (!(v >= T(0))) return 0;
+    if (v >= T(n)) return n - 1;
+    return static_cast<int>(v);  // v >= 0: truncation is floor
   }
   MILLSIM_HD void cellCoords(core::Vec3<T> p, int& cx, int& cy, int& cz) const {
     cx = clampIndex((p.x - origin.x) * inv_cell, nx);
