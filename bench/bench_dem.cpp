@@ -1,19 +1,27 @@
 // DEM throughput: particle-steps per second of the drum engine for a settled-ish random charge
-// of N equal balls in a rotating drum (OpenMP). Run: build/bench/millsim_bench.
+// of N equal balls in a rotating drum (OpenMP), as spheres and as the paper's DCDEM balls
+// (elements at dp = 5 mm). Run: build/bench/millsim_bench.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <random>
 
 #include "dem/contact/damping.hpp"
+#include "dem/dcdem_bodies.hpp"
 #include "dem/dem_engine.hpp"
 
 using namespace millsim;
 
-static void BM_DemDrumStep(benchmark::State& state) {
-  const int n = static_cast<int>(state.range(0));
-  const double r = 0.005;
-  // Drum sized for ~25% solid fraction of the balls.
+namespace {
+
+struct DrumScene {
+  dem::DemSetup setup;
+  dem::DemHostState balls;
+  dem::DrumState drum;
+};
+
+// n balls of radius r on a loose lattice in a drum sized for ~25% solid fraction.
+DrumScene drumScene(int n, double r) {
   const double vol = n * 4.0 / 3.0 * M_PI * r * r * r / 0.25;
   const double R = std::cbrt(vol / (2 * M_PI)), L = 2 * R;
   dem::DemSetup setup;
@@ -39,8 +47,6 @@ static void BM_DemDrumStep(benchmark::State& state) {
         s.mass.push_back(m);
         s.inertia.push_back(0.4 * m * r * r);
       }
-  auto engine = dem::makeDemEngineOmp(setup, state.range(1) != 0);
-  engine->setState(s);
   dem::DrumState drum;
   drum.radius = R;
   drum.z_back = L;
@@ -48,6 +54,17 @@ static void BM_DemDrumStep(benchmark::State& state) {
   drum.lifter_count = 8;
   drum.lifter_height = r;
   drum.lifter_width = r;
+  return {setup, s, drum};
+}
+
+}  // namespace
+
+static void BM_DemDrumStep(benchmark::State& state) {
+  DrumScene sc = drumScene(static_cast<int>(state.range(0)), 0.005);
+  const dem::DemHostState& s = sc.balls;
+  dem::DrumState& drum = sc.drum;
+  auto engine = dem::makeDemEngineOmp(sc.setup, state.range(1) != 0);
+  engine->setState(s);
   engine->initialize(drum);
   const double dt = 1e-5;
   for (auto _ : state) {
@@ -66,5 +83,34 @@ BENCHMARK(BM_DemDrumStep)
     ->Args({200000, 0})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+
+// The paper's balls: 35 mm balls of 123 elements at dp = 5 mm (docs/cases.md, DCDEM balls);
+// counters per element and per ball.
+static void BM_DemDcdemDrumStep(benchmark::State& state) {
+  const double r = 0.0175, dp = 0.005;
+  DrumScene sc = drumScene(static_cast<int>(state.range(0)), r);
+  sc.setup.skin = 0.2 * dp;
+  sc.setup.max_radius = 0.5 * dp;
+  dem::BodyAssembler a;
+  for (std::size_t i = 0; i < sc.balls.size(); ++i) {
+    std::vector<core::Vec3<double>> pts = dem::latticeBallPoints(r, dp);
+    for (auto& p : pts) p += core::Vec3<double>{sc.balls.pos[3 * i], sc.balls.pos[3 * i + 1], sc.balls.pos[3 * i + 2]};
+    a.addBody(pts, 0.5 * dp, sc.balls.mass[i], {sc.balls.vel[3 * i], sc.balls.vel[3 * i + 1], 0.0}, {0, 0, 0}, r);
+  }
+  auto engine = dem::makeDemEngineOmp(sc.setup, false);
+  engine->setState(a.state());
+  engine->setBodies(a.bodies());
+  engine->initialize(sc.drum);
+  const double dt = 1e-5;
+  for (auto _ : state) {
+    sc.drum.phi += sc.drum.omega * dt;
+    engine->step(sc.drum, dt);
+  }
+  const double elements = static_cast<double>(a.state().size()), balls = static_cast<double>(sc.balls.size());
+  state.counters["elements"] = elements;
+  state.counters["element_steps_per_s"] = benchmark::Counter(elements * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["ball_steps_per_s"] = benchmark::Counter(balls * state.iterations(), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_DemDcdemDrumStep)->Arg(300)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 BENCHMARK_MAIN();
