@@ -172,6 +172,10 @@ class DemSolver final : public DemEngine {
     m_old_of_new.resize(n, 0);
     m_nb = 0;  // bodies, if any, come with setBodies
     m_steps = 0;
+    m_has_external = false;
+    m_has_body_external = false;
+    m_work_external.resize(0);
+    m_body_work_ext.resize(0);
     // Stirred-mill arrays exist only once a stirred step runs (allocateStirred).
     m_tally.resize(0);
     m_lub_dissipated.resize(0);
@@ -182,7 +186,9 @@ class DemSolver final : public DemEngine {
     m_nb = static_cast<int>(b.size());
     if (m_nb == 0) return;
     const int ne = b.elements();
-    if (static_cast<int>(b.start.size()) != m_nb + 1 || ne > m_n || b.offset.size() != 3 * std::size_t(ne) ||
+    bool ordered = !b.start.empty() && b.start[0] == 0;
+    for (int k = 0; ordered && k < m_nb; ++k) ordered = b.start[k] < b.start[k + 1];
+    if (!ordered || static_cast<int>(b.start.size()) != m_nb + 1 || ne > m_n || b.offset.size() != 3 * std::size_t(ne) ||
         b.pos.size() != 3 * std::size_t(m_nb) || b.vel.size() != b.pos.size() || b.ang_mom.size() != b.pos.size() ||
         b.quat.size() != 4 * std::size_t(m_nb) || b.inertia.size() != 6 * std::size_t(m_nb) ||
         b.radius.size() != std::size_t(m_nb))
@@ -234,7 +240,10 @@ class DemSolver final : public DemEngine {
     m_inv_mass.copyFromHost(inv_mass_p);
     m_index_of_host.resize(m_n, 0);
     m_scratch_int2.resize(m_n, 0);
+    // Host copies in double: a checkpoint round trip must not perturb them through T.
     m_body_radius = b.radius;
+    m_body_mass_host = b.mass;
+    m_body_inertia_host = b.inertia;
     m_has_body_external = false;
     // The elements start exactly on their bodies.
     backend::parallelFor(Space{}, m_n, InvertIds{m_id.data(), m_index_of_host.data()});
@@ -246,14 +255,10 @@ class DemSolver final : public DemEngine {
     if (m_nb == 0) return;
     std::vector<Vec3<T>> pos, vel, L, offset;
     std::vector<Quat<T>> q;
-    std::vector<Sym3<T>> inv_inertia;
-    std::vector<T> inv_mass;
     m_body_pos.copyToHost(pos);
     m_body_vel.copyToHost(vel);
     m_body_L.copyToHost(L);
     m_body_q.copyToHost(q);
-    m_body_inv_inertia.copyToHost(inv_inertia);
-    m_body_inv_mass.copyToHost(inv_mass);
     m_body_start.copyToHost(b.start);
     m_elem_offset.copyToHost(offset);
     for (int k = 0; k < m_nb; ++k) {
@@ -261,11 +266,9 @@ class DemSolver final : public DemEngine {
       b.vel.insert(b.vel.end(), {double(vel[k].x), double(vel[k].y), double(vel[k].z)});
       b.ang_mom.insert(b.ang_mom.end(), {double(L[k].x), double(L[k].y), double(L[k].z)});
       b.quat.insert(b.quat.end(), {double(q[k].w), double(q[k].x), double(q[k].y), double(q[k].z)});
-      b.mass.push_back(1.0 / double(inv_mass[k]));
-      const Sym3<T>& a = inv_inertia[k];
-      const Sym3<double> I = symInverse(Sym3<double>{double(a.xx), double(a.yy), double(a.zz), double(a.xy), double(a.xz), double(a.yz)});
-      b.inertia.insert(b.inertia.end(), {I.xx, I.yy, I.zz, I.xy, I.xz, I.yz});
     }
+    b.mass = m_body_mass_host;
+    b.inertia = m_body_inertia_host;
     for (const Vec3<T>& o : offset) b.offset.insert(b.offset.end(), {double(o.x), double(o.y), double(o.z)});
     b.radius = m_body_radius;
   }
@@ -518,7 +521,14 @@ class DemSolver final : public DemEngine {
     std::size_t bad = 0;
     while (bad + 1 < pos.size() && core::norm2(pos[bad] - ref[bad]) < T(1e29)) ++bad;  // stepWith's test
     std::ostringstream m;
-    m << "DEM: particle " << (id.empty() ? 0 : id[bad]) << " diverged at solver step " << m_steps
+    const int host = id.empty() ? 0 : id[bad];
+    m << "DEM: particle " << host;
+    if (m_nb > 0) {
+      std::vector<int> body_of;
+      m_body_of.copyToHost(body_of);
+      if (body_of[bad] >= 0) m << " (element of DCDEM body " << body_of[bad] << ")";
+    }
+    m << " diverged at solver step " << m_steps
       << ": position (" << pos[bad].x << ", " << pos[bad].y << ", " << pos[bad].z << ") m, at the last neighbour "
       << "build (" << ref[bad].x << ", " << ref[bad].y << ", " << ref[bad].z << ") m, velocity (" << vel[bad].x
       << ", " << vel[bad].y << ", " << vel[bad].z << ") m/s. Likely cause: dt = " << double(dt)
@@ -547,7 +557,7 @@ class DemSolver final : public DemEngine {
   }
 
   void bodyLoads() {
-    BodyLoads<T> loads{bodyView(), m_index_of_host.data(), m_pos.data(), m_force.data(), m_torque.data()};
+    BodyLoads<T> loads{bodyView(), m_index_of_host.data(), m_elem_offset.data(), m_force.data(), m_torque.data()};
     if (m_has_body_external) {
       loads.ext_force = m_body_ext_force.data();
       loads.ext_torque = m_body_ext_torque.data();
@@ -871,7 +881,7 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, int> m_index_of_host;    // current index of each host number
   backend::Array<Space, int> m_body_of, m_scratch_int2;  // body of each particle (current index), -1: sphere
   backend::Array<Space, T> m_contact_mass;       // body mass for elements, own mass for spheres
-  std::vector<double> m_body_radius;             // host only: the balls' radii (getBodies)
+  std::vector<double> m_body_radius, m_body_mass_host, m_body_inertia_host;  // as given to setBodies
   // Loads from outside (the fluid) per body, and their work; only in coupled runs.
   bool m_has_body_external = false;
   backend::Array<Space, Vec3<T>> m_body_ext_force, m_body_ext_torque;

@@ -170,7 +170,8 @@ template <class T>
 struct BodyLoads {
   BodyView<T> b;
   const int* index_of_host;
-  const Vec3<T>* elem_pos;
+  const Vec3<T>* offset;  // body frame, by host number: the lever arm is q r_body (exact in float,
+                          // where x_element - R would lose digits to the positions' magnitude)
   const Vec3<T>* elem_force;
   const Vec3<T>* elem_torque;
   const Vec3<T>* ext_force = nullptr;  // per body, held (the fluid's), or none
@@ -181,12 +182,12 @@ struct BodyLoads {
       f = ext_force[k];
       tq = ext_torque[k];
     }
-    const Vec3<T> c = b.pos[k];
+    const Quat<T> q = b.q[k];
     for (int h = b.start[k]; h < b.start[k + 1]; ++h) {
       const int i = index_of_host[h];
       const Vec3<T> fi = elem_force[i];
       f += fi;
-      tq += elem_torque[i] + core::cross(elem_pos[i] - c, fi);
+      tq += elem_torque[i] + core::cross(quatRotate(q, offset[h]), fi);
     }
     b.force[k] = f;
     b.torque[k] = tq;

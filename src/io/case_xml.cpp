@@ -640,13 +640,15 @@ Schema buildSchema() {
   };
 
   s.checks = {
-      {"dem", "element_spacing", "DCDEM balls: `dem.element_spacing` <= `charge.min_size` / 2; drum cases only",
+      {"dem", "element_spacing", "DCDEM balls: `dem.element_spacing` <= `charge.min_size` / 3; drum cases only",
        [](const Scene& sc) -> std::string {
          if (!sc.effect_dem || sc.dem.representation != "dcdem") return {};
          if (sc.has_stirrer) return "DCDEM balls are for drum cases (the stirred mill's beads are spheres)";
-         if (sc.dem.element_spacing > 0.5 * sc.charge.min_size)
-           return "must be <= charge.min_size / 2 = " + formatNumber(0.5 * sc.charge.min_size) +
-                  " (m): a ball needs elements across it";
+         // A ball of radius >= 1.5 dp holds its centre and six neighbours (an inertia tensor that
+         // is not singular); a smaller one would be a single element.
+         if (sc.dem.element_spacing > sc.charge.min_size / 3 * (1 + 1e-12))
+           return "must be <= charge.min_size / 3 = " + formatNumber(sc.charge.min_size / 3) +
+                  " (m): the smallest ball needs elements across it";
          return {};
        }},
       {"sph", "rhop_out_max", "`sph.rhop_out_min` < `sph.rhop_out_max`",

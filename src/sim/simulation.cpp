@@ -371,6 +371,9 @@ void Simulation::Impl::restoreCheckpoint() {
   s.dissipated = real("dissipated");
   s.work_in = real("work_in");
   s.hist_id = cp.ints.at("hist_id");
+  if (!dcdem && cp.ints.count("body_start"))
+    throw core::InputError(options.restart + ": checkpoint holds DCDEM bodies, the case asks for spheres "
+                           "(add dem representation=\"dcdem\")");
   engine->setState(s);
   if (dcdem) {
     if (!cp.ints.count("body_start"))

@@ -424,11 +424,11 @@ TEST(CaseXmlErrors, IntegerWithDecimals) {
 // DCDEM balls need elements across the smallest ball, and are not coupled to a fluid yet.
 TEST(CaseXmlErrors, DcdemBallsChecks) {
   EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"dcdem\" element_spacing=\"0.01\"/>")).what,
-            "t.xml:3: <dem element_spacing=\"0.01\">: must be <= charge.min_size / 2 = 0.0075 (m): a ball needs "
+            "t.xml:3: <dem element_spacing=\"0.01\">: must be <= charge.min_size / 3 = 0.005 (m): the smallest ball "
+            "needs elements across it");
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"dcdem\"/>"), {"dem.element_spacing=0.006"}).what,
+            "--set dem.element_spacing=0.006: must be <= charge.min_size / 3 = 0.005 (m): the smallest ball needs "
             "elements across it");
-  EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"dcdem\"/>"), {"dem.element_spacing=0.009"}).what,
-            "--set dem.element_spacing=0.009: must be <= charge.min_size / 2 = 0.0075 (m): a ball needs elements "
-            "across it");
   EXPECT_EQ(textFailure(small("<dem/>", "<dem representation=\"blob\"/>")).what,
             "t.xml:3: <dem representation=\"blob\">: expected one of sphere, dcdem");
   EXPECT_EQ(loadCaseText(small("<dem/>", "<dem representation=\"dcdem\"/>"), "t.xml").dem.element_spacing, 0.005);
