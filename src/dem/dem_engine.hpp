@@ -19,6 +19,7 @@ struct DemSetup {
   double wall_mass_factor = 1;   // m* of a wall contact = factor * m
   double friction = 0;
   bool tanh_smoothing = false;
+  bool dualsphysics_tangential = false;  // drum walls only: HertzDualSphysicsTangential
   std::array<double, 3> gravity{0, -9.81, 0};
   double skin = 0;               // neighbour-list skin [m]
   std::array<double, 3> domain_lo{}, domain_hi{};  // box covering every particle position

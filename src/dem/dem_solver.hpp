@@ -761,8 +761,10 @@ class DemSolver final : public DemEngine {
   }
 
   void computeForces(const DrumState& walls, T dt) {
-    // The smoothing choice is a template parameter: one branch per step, none per pair.
-    if (m_setup.tanh_smoothing)
+    // The tangential law is a template parameter: one branch per step, none per pair.
+    if (m_setup.dualsphysics_tangential)
+      launchForces(walls, dt, HertzDualSphysicsTangential<T>{m_law});
+    else if (m_setup.tanh_smoothing)
       launchForces(walls, dt, HertzMindlin<T, FrictionSmoothing::kTanh>{m_law});
     else
       launchForces(walls, dt, HertzMindlin<T, FrictionSmoothing::kNone>{m_law});

@@ -365,6 +365,12 @@ Schema buildSchema() {
              [](Scene& sc) -> std::string& { return sc.dem.friction_smoothing; },
              "Tangential force near zero slip: none = plain Coulomb limit; tanh = scaled by "
              "tanh(8 |v_t|) as in the paper's eq. 55."),
+      choice("dem", "tangential", {"spring", "dualsphysics"},
+             [](Scene& sc) -> std::string& { return sc.dem.tangential; },
+             "Tangential law: spring = spring with history and Coulomb limit (k_t = 2/7 of the normal "
+             "stiffness; friction_smoothing applies); dualsphysics = DualSPHysics's DEM law as coded (no "
+             "history: min(mu F_n tanh(8 v_t), (k_n dt - gamma_n) v_t / 3.5), in practice a viscous drag; "
+             "drum cases)."),
       number("dem", "impact_velocity", "m/s", above(0),
              [](Scene& sc) -> double& { return sc.dem.impact_velocity; },
              "Reference impact speed for the contact time t_c in dt = t_c / dt_divisor."),
@@ -640,6 +646,11 @@ Schema buildSchema() {
   };
 
   s.checks = {
+      {"dem", "tangential", "`dem.tangential` = dualsphysics: drum cases only",
+       [](const Scene& sc) -> std::string {
+         if (!sc.effect_dem || sc.dem.tangential != "dualsphysics" || !sc.has_stirrer) return {};
+         return "dualsphysics is for drum cases (the stirred mill uses the spring law)";
+       }},
       {"dem", "element_spacing", "DCDEM balls: `dem.element_spacing` <= `charge.min_size` / 3; drum cases only",
        [](const Scene& sc) -> std::string {
          if (!sc.effect_dem || sc.dem.representation != "dcdem") return {};

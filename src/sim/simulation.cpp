@@ -107,6 +107,7 @@ struct Simulation::Impl {
     setup.wall_mass_factor = dem::wallMassFactor(model);
     setup.friction = scene.dem.friction;
     setup.tanh_smoothing = scene.dem.friction_smoothing == "tanh";
+    setup.dualsphysics_tangential = scene.dem.tangential == "dualsphysics";
     setup.gravity = scene.gravity;
     setup.skin = 0.2 * charge.min_radius;
     setup.max_radius = charge.max_radius;

@@ -52,6 +52,39 @@ TEST(HertzLaw, NewtonThirdLawAndCoulombBound) {
   }
 }
 
+// DualSPHysics's history-free tangential law (hertz.hpp, HertzDualSphysicsTangential), checked
+// against its formula by hand: F_t = min(mu F_n tanh(8 |v_t|), (k_n dt - gamma_n) |v_t| / 3.5)
+// along v_t. At the paper's numbers the second branch is negative, so the force is a viscous
+// drag opposing the slip, the same for any mu; the normal force is the Hertz law's.
+TEST(HertzLaw, DualSphysicsTangentialIsViscousDragAtThePapersSettings) {
+  const double e_star = 1e8 / (2 * (1 - 0.29 * 0.29)), rs = 0.25 * 0.005, ms = 0.9, dt = 1e-5, d = 2e-5;
+  const Vec3<double> n{0, 0, 1}, v{0.03, -0.04, -0.1};  // |v_t| = 0.05 m/s, approaching at 0.1 m/s
+  const double kn = 4.0 / 3.0 * e_star * std::sqrt(rs);
+  const double alpha = dem::dampingAlpha(dem::DampingModel::kDualSphysics, 0.39);
+  const double g0 = alpha * std::sqrt(ms * kn);
+  ASSERT_GT(g0, 10 * kn * dt);  // the regime of the paper
+  for (double mu : {0.1, 0.496, 1.0}) {
+    dem::HertzDualSphysicsTangential<double> l{{4.0 / 3.0 * e_star, alpha, mu}};
+    Vec3<double> xi{1, 2, 3};
+    const auto c = l(n, d, rs, ms, v, xi, dt);
+    const double fn = kn * std::pow(d, 1.5) + g0 * std::pow(d, 0.25) * 0.1;
+    EXPECT_NEAR(c.force.z, fn, 1e-12 * fn);
+    const double drag = (g0 - kn * dt) / 3.5;  // N s/m
+    EXPECT_NEAR(c.force_t.x, -drag * 0.03, 1e-12 * drag);
+    EXPECT_NEAR(c.force_t.y, drag * 0.04, 1e-12 * drag);
+    EXPECT_EQ(xi.x, 0.0);  // no history kept
+    EXPECT_GT(c.dissipation_rate, 0.0);
+  }
+  // Without damping (e = 1) the second branch is positive and the smaller of the two wins:
+  // here the Coulomb one, mu F_n tanh(8 |v_t|), and (as coded in DualSPHysics) along +v_t.
+  dem::HertzDualSphysicsTangential<double> l{{4.0 / 3.0 * e_star, 0.0, 0.2}};
+  Vec3<double> xi{0, 0, 0};
+  const Vec3<double> slide{0.05, 0, 0};
+  const auto c = l(n, d, rs, ms, slide, xi, dt);
+  const double coulomb = 0.2 * kn * std::pow(d, 1.5) * std::tanh(8 * 0.05), elastic = kn * dt * 0.05 / 3.5;
+  EXPECT_NEAR(c.force_t.x, std::min(coulomb, elastic), 1e-12 * coulomb);
+}
+
 TEST(HertzLaw, DampingCoefficientsMatchReference) {
   // Closed forms of reference/contact.md.
   const double l = std::log(0.39);

@@ -32,6 +32,9 @@ struct DemParams {
   double friction = 0.496;        // - kinetic (Coulomb) friction coefficient
   std::string damping = "exact";  // "exact" (Antypov & Elliott 2011) | "dualsphysics"
   std::string friction_smoothing = "none";  // "none" | "tanh" (paper eq. 55: tanh(8 |v_t|))
+  // "spring": Mindlin-type spring with history and Coulomb limit; "dualsphysics": DualSPHysics's
+  // history-free DEM tangential law as coded (src/dem/contact/hertz.hpp), for reproducing the paper.
+  std::string tangential = "spring";
   double impact_velocity = 2.0;   // m/s, reference speed for the contact time in dt = t_c / N
   std::string law = "hertz";      // "hertz" | "linear" (seed 004's linear spring-dashpot)
   double linear_stiffness = 1e5;  // N/m, k_n of the linear law

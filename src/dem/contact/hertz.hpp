@@ -49,6 +49,25 @@ struct PairStiffness {
 
 enum class FrictionSmoothing { kNone, kTanh };
 
+// The normal part shared by the laws: F_n = k_n d^3/2 - gamma_n d^1/4 v_n (eq. 51).
+template <class T>
+struct HertzNormal {
+  T fn;          // signed normal force (> 0 repulsive)
+  T gamma;       // gamma_n d^1/4
+  T sqrt_delta;  // d^1/2
+  T elastic;     // 2/5 k_n d^5/2
+};
+
+template <class T>
+MILLSIM_HD HertzNormal<T> hertzNormal(PairStiffness<T> k, T delta, T vn) {
+  HertzNormal<T> h;
+  h.sqrt_delta = std::sqrt(delta);
+  h.gamma = k.gamma0 * std::sqrt(h.sqrt_delta);
+  h.fn = k.kn * delta * h.sqrt_delta - h.gamma * vn;
+  h.elastic = T(0.4) * k.kn * delta * delta * h.sqrt_delta;
+  return h;
+}
+
 template <class T, FrictionSmoothing kSmoothing = FrictionSmoothing::kNone>
 struct HertzMindlin {
   HertzParams<T> p;
@@ -66,12 +85,10 @@ struct HertzMindlin {
   MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, PairStiffness<T> k, core::Vec3<T> v_rel,
                                          core::Vec3<T>& xi, T dt) const {
     using core::Vec3;
-    const T sqrt_delta = std::sqrt(delta);
     const T kn = k.kn;
-    const T delta14 = std::sqrt(sqrt_delta);
-    const T gamma = k.gamma0 * delta14;  // gamma_n d^1/4
     const T vn = core::dot(v_rel, n);
-    const T fn = kn * delta * sqrt_delta - gamma * vn;
+    const HertzNormal<T> h = hertzNormal(k, delta, vn);
+    const T sqrt_delta = h.sqrt_delta, gamma = h.gamma, fn = h.fn;
 
     const Vec3<T> vt = v_rel - vn * n;
     // Carry the spring onto the current tangent plane, keeping its length (rigid rotation).
@@ -98,7 +115,48 @@ struct HertzMindlin {
     r.force_t = ft;
     r.force = fn * n + ft;
     r.dissipation_rate = gamma * vn * vn - core::dot(ft, vt);
-    r.elastic_energy = T(0.4) * kn * delta * delta * sqrt_delta;
+    r.elastic_energy = h.elastic;
+    return r;
+  }
+};
+
+// DualSPHysics's own tangential law for DEM contacts of floating bodies (the paper's "Rigid
+// Algorithm: DEM", Table 2; DualSPHysics 5.x JSphCpu::InteractionForcesDEM), as it is coded,
+// which is not what the paper's eqs. 55-56 read: no spring and no history,
+//   F_t = min(mu F_n tanh(8 |v_t|), (k_n dt - gamma_n) |v_t| / 3.5) along v_t / |v_t|,
+// with gamma_n the normal damping coefficient without its d^1/4 factor and v_t in m/s. At the
+// paper's settings (k_n = 2.6e6 N/m^1.5 for R* = dp/4, dt = 1e-5 s: k_n dt = 26, against
+// gamma_n ~ 1.4e3 N s/m for two 35 mm balls at e = 0.39) the second term is negative, so the
+// minimum is always that one: a viscous drag -(gamma_n - k_n dt) v_t / 3.5 that friction never
+// caps (the Coulomb term only wins when F_n < 0). The normal part is eq. 51 as above.
+template <class T>
+struct HertzDualSphysicsTangential {
+  HertzParams<T> p;
+
+  MILLSIM_HD PairStiffness<T> stiffness(T r_star, T m_star) const { return HertzMindlin<T>{p}.stiffness(r_star, m_star); }
+
+  MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
+                                         core::Vec3<T>& xi, T dt) const {
+    return (*this)(n, delta, stiffness(r_star, m_star), v_rel, xi, dt);
+  }
+
+  MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, PairStiffness<T> k, core::Vec3<T> v_rel,
+                                         core::Vec3<T>& xi, T dt) const {
+    using core::Vec3;
+    const T vn = core::dot(v_rel, n);
+    const HertzNormal<T> h = hertzNormal(k, delta, vn);
+    const Vec3<T> vt = v_rel - vn * n;
+    const T vt_len = core::norm(vt);
+    const T elastic_branch = (k.kn * dt - k.gamma0) * vt_len / T(3.5);
+    const T coulomb_branch = p.friction * h.fn * std::tanh(T(8) * vt_len);
+    const T ft_len = coulomb_branch < elastic_branch ? coulomb_branch : elastic_branch;
+    const Vec3<T> ft = vt_len > T(0) ? (ft_len / vt_len) * vt : core::zero3<T>();
+    xi = core::zero3<T>();  // no history
+    ContactResult<T> r;
+    r.force_t = ft;
+    r.force = h.fn * n + ft;
+    r.dissipation_rate = h.gamma * vn * vn - core::dot(ft, vt);
+    r.elastic_energy = h.elastic;
     return r;
   }
 };
