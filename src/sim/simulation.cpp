@@ -308,34 +308,36 @@ void Simulation::Impl::run() {
   }
 }
 
+namespace {
+
+// The real arrays of a checkpoint, by dataset name: the DEM state and the DCDEM bodies.
+std::vector<std::pair<const char*, std::vector<double>*>> stateArrays(dem::DemHostState& s) {
+  return {{"pos", &s.pos},         {"vel", &s.vel},         {"omega", &s.omega},
+          {"radius", &s.radius},   {"mass", &s.mass},       {"inertia", &s.inertia},
+          {"hist_xi", &s.hist_xi}, {"dissipated", &s.dissipated}, {"work_in", &s.work_in}};
+}
+
+std::vector<std::pair<const char*, std::vector<double>*>> bodyArrays(dem::DemBodies& b) {
+  return {{"body_pos", &b.pos},   {"body_vel", &b.vel},         {"body_ang_mom", &b.ang_mom},
+          {"body_quat", &b.quat}, {"body_mass", &b.mass},       {"body_inertia", &b.inertia},
+          {"body_offset", &b.offset}, {"body_radius", &b.radius}};
+}
+
+}  // namespace
+
 void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
   io::CheckpointData cp;
   cp.time = t;
   cp.step = step;
   dem::DemHostState s;
   engine->getState(s);
-  cp.reals["pos"] = s.pos;
-  cp.reals["vel"] = s.vel;
-  cp.reals["omega"] = s.omega;
-  cp.reals["radius"] = s.radius;
-  cp.reals["mass"] = s.mass;
-  cp.reals["inertia"] = s.inertia;
-  cp.reals["hist_xi"] = s.hist_xi;
-  cp.reals["dissipated"] = s.dissipated;
-  cp.reals["work_in"] = s.work_in;
+  for (const auto& [key, v] : stateArrays(s)) cp.reals[key] = *v;
   cp.ints["hist_id"] = s.hist_id;
   if (dcdem) {
     dem::DemBodies b;
     engine->getBodies(b);
     cp.ints["body_start"].assign(b.start.begin(), b.start.end());
-    cp.reals["body_pos"] = b.pos;
-    cp.reals["body_vel"] = b.vel;
-    cp.reals["body_ang_mom"] = b.ang_mom;
-    cp.reals["body_quat"] = b.quat;
-    cp.reals["body_mass"] = b.mass;
-    cp.reals["body_inertia"] = b.inertia;
-    cp.reals["body_offset"] = b.offset;
-    cp.reals["body_radius"] = b.radius;
+    for (const auto& [key, v] : bodyArrays(b)) cp.reals[key] = *v;
   }
   cp.scalars["phi"] = phi;
   cp.scalars["dt"] = dt;
@@ -362,15 +364,7 @@ void Simulation::Impl::restoreCheckpoint() {
     if (it == cp.reals.end()) throw core::InputError(options.restart + ": checkpoint lacks '" + k + "'");
     return it->second;
   };
-  s.pos = real("pos");
-  s.vel = real("vel");
-  s.omega = real("omega");
-  s.radius = real("radius");
-  s.mass = real("mass");
-  s.inertia = real("inertia");
-  s.hist_xi = real("hist_xi");
-  s.dissipated = real("dissipated");
-  s.work_in = real("work_in");
+  for (const auto& [key, v] : stateArrays(s)) *v = real(key);
   s.hist_id = cp.ints.at("hist_id");
   if (!dcdem && cp.ints.count("body_start"))
     throw core::InputError(options.restart + ": checkpoint holds DCDEM bodies, the case asks for spheres "
@@ -382,14 +376,7 @@ void Simulation::Impl::restoreCheckpoint() {
     dem::DemBodies b;
     const auto& start = cp.ints.at("body_start");
     b.start.assign(start.begin(), start.end());
-    b.pos = real("body_pos");
-    b.vel = real("body_vel");
-    b.ang_mom = real("body_ang_mom");
-    b.quat = real("body_quat");
-    b.mass = real("body_mass");
-    b.inertia = real("body_inertia");
-    b.offset = real("body_offset");
-    b.radius = real("body_radius");
+    for (const auto& [key, v] : bodyArrays(b)) *v = real(key);
     engine->setBodies(b);
   }
   t = cp.time;

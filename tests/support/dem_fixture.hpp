@@ -52,7 +52,8 @@ inline dem::DemHostState hostState(const std::vector<Ball>& balls, double densit
   return s;
 }
 
-inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std::vector<Ball>& balls) {
+// The scene's material, contact law and gravity (no cells yet).
+inline dem::DemSetup materialSetup(const DemScene& sc) {
   dem::DemSetup setup;
   setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
   setup.alpha = dem::dampingAlpha(sc.damping, sc.restitution);
@@ -60,6 +61,11 @@ inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std:
   setup.friction = sc.friction;
   setup.tanh_smoothing = sc.tanh;
   setup.gravity = sc.gravity;
+  return setup;
+}
+
+inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std::vector<Ball>& balls) {
+  dem::DemSetup setup = materialSetup(sc);
   double rmax = 0, rmin = 1e9;
   for (const auto& b : balls) {
     rmax = std::max(rmax, b.r);
@@ -89,13 +95,11 @@ inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std:
 // gravity -y, skin 0.2 r_min, cells over [lo, hi].
 inline dem::DemSetup drumSetup(double e, double mu, double r_min, double r_max, std::array<double, 3> lo,
                                std::array<double, 3> hi) {
-  const DemScene sc;
-  dem::DemSetup setup;
-  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
-  setup.alpha = dem::dampingAlpha(sc.damping, e);
-  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
-  setup.friction = mu;
-  setup.gravity = {0, -9.81, 0};
+  DemScene sc;
+  sc.restitution = e;
+  sc.friction = mu;
+  sc.gravity = {0, -9.81, 0};
+  dem::DemSetup setup = materialSetup(sc);
   setup.skin = 0.2 * r_min;
   setup.max_radius = r_max;
   setup.domain_lo = lo;
@@ -108,12 +112,7 @@ inline dem::DemSetup drumSetup(double e, double mu, double r_min, double r_max, 
 inline std::unique_ptr<dem::DemEngine> makeBodyEngine(const DemScene& sc, const dem::BodyAssembler& a,
                                                       double element_radius, std::array<double, 3> lo,
                                                       std::array<double, 3> hi) {
-  dem::DemSetup setup;
-  setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(sc.young, sc.poisson);
-  setup.alpha = dem::dampingAlpha(sc.damping, sc.restitution);
-  setup.wall_mass_factor = dem::wallMassFactor(sc.damping);
-  setup.friction = sc.friction;
-  setup.gravity = sc.gravity;
+  dem::DemSetup setup = materialSetup(sc);
   setup.skin = 0.2 * element_radius;
   setup.max_radius = element_radius;
   setup.domain_lo = lo;

@@ -49,6 +49,12 @@ struct PairStiffness {
 
 enum class FrictionSmoothing { kNone, kTanh };
 
+template <class T>
+MILLSIM_HD PairStiffness<T> hertzStiffness(const HertzParams<T>& p, T r_star, T m_star) {
+  const T kn = p.k_coef * std::sqrt(r_star);
+  return {kn, p.alpha * std::sqrt(m_star * kn)};
+}
+
 // The normal part shared by the laws: F_n = k_n d^3/2 - gamma_n d^1/4 v_n (eq. 51).
 template <class T>
 struct HertzNormal {
@@ -72,19 +78,10 @@ template <class T, FrictionSmoothing kSmoothing = FrictionSmoothing::kNone>
 struct HertzMindlin {
   HertzParams<T> p;
 
-  MILLSIM_HD PairStiffness<T> stiffness(T r_star, T m_star) const {
-    const T kn = p.k_coef * std::sqrt(r_star);
-    return {kn, p.alpha * std::sqrt(m_star * kn)};
-  }
-
   MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
                                          core::Vec3<T>& xi, T dt) const {
-    return (*this)(n, delta, stiffness(r_star, m_star), v_rel, xi, dt);
-  }
-
-  MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, PairStiffness<T> k, core::Vec3<T> v_rel,
-                                         core::Vec3<T>& xi, T dt) const {
     using core::Vec3;
+    const PairStiffness<T> k = hertzStiffness(p, r_star, m_star);
     const T kn = k.kn;
     const T vn = core::dot(v_rel, n);
     const HertzNormal<T> h = hertzNormal(k, delta, vn);
@@ -133,16 +130,10 @@ template <class T>
 struct HertzDualSphysicsTangential {
   HertzParams<T> p;
 
-  MILLSIM_HD PairStiffness<T> stiffness(T r_star, T m_star) const { return HertzMindlin<T>{p}.stiffness(r_star, m_star); }
-
   MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
                                          core::Vec3<T>& xi, T dt) const {
-    return (*this)(n, delta, stiffness(r_star, m_star), v_rel, xi, dt);
-  }
-
-  MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, PairStiffness<T> k, core::Vec3<T> v_rel,
-                                         core::Vec3<T>& xi, T dt) const {
     using core::Vec3;
+    const PairStiffness<T> k = hertzStiffness(p, r_star, m_star);
     const T vn = core::dot(v_rel, n);
     const HertzNormal<T> h = hertzNormal(k, delta, vn);
     const Vec3<T> vt = v_rel - vn * n;
