@@ -216,7 +216,7 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
     // The paper's ball representation: DualSPHysics DCDEM bodies of 5 mm particles (t_c/50 of
     // their element contacts), against analytic spheres.
     if (want("drum_300", "representation"))
-      rows.push_back(drumAngle(source_dir, quick, "representation", "DCDEM balls, dp = 5 mm", {"dem.representation=dcdem"}));
+      rows.push_back(drumAngle(source_dir, quick, "representation", "DCDEM balls (dp = 5 mm)", {"dem.representation=dcdem"}));
   }
   fillDrumErrors(rows);
   return rows;
@@ -306,9 +306,14 @@ void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& ou
   std::vector<bool> on_front(rows.size(), false);
   for (const std::string problem : {"dam_break_2d", "hertz_impact", "drum_300"})
     for (std::size_t i : paretoFront(rows, problem)) on_front[i] = true;
+  // Plain CSV without quoting: a comma inside a label would shift the columns, so it becomes ';'.
+  auto cell = [](std::string v) {
+    std::replace(v.begin(), v.end(), ',', ';');
+    return v;
+  };
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const StudyRow& r = rows[i];
-    out << r.problem << "," << r.axis << "," << r.setting << "," << r.error << "," << r.value << "," << r.wall_s << ","
+    out << cell(r.problem) << "," << cell(r.axis) << "," << cell(r.setting) << "," << r.error << "," << r.value << "," << r.wall_s << ","
         << (r.simulated_s > 0 ? r.wall_s / r.simulated_s : 0.0) << "," << r.particles << "," << r.steps << ","
         << r.backend << "," << (on_front[i] ? 1 : 0) << "\n";
   }
