@@ -108,7 +108,8 @@ static void BM_DemDcdemDrumStep(benchmark::State& state) {
   }
   const double elements = static_cast<double>(a.state().size()), balls = static_cast<double>(sc.balls.size());
   state.counters["elements"] = elements;
-  state.counters["element_steps_per_s"] = benchmark::Counter(elements * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["element_steps_per_s"] =
+      benchmark::Counter(elements * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["ball_steps_per_s"] = benchmark::Counter(balls * state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_DemDcdemDrumStep)->Arg(300)->Unit(benchmark::kMicrosecond)->UseRealTime();

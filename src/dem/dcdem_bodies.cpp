@@ -11,7 +11,8 @@ namespace millsim::dem {
 using core::Vec3;
 
 std::vector<Vec3<double>> latticeBallPoints(double radius, double dp) {
-  if (!(dp > 0) || !(radius >= 0.5 * dp)) throw std::invalid_argument("latticeBallPoints: need dp > 0 and radius >= dp/2");
+  if (!(dp > 0) || !(radius >= 0.5 * dp))
+    throw std::invalid_argument("latticeBallPoints: need dp > 0 and radius >= dp/2");
   const double reach = radius - 0.5 * dp;
   const int n = static_cast<int>(std::floor(reach / dp + 1e-9));
   std::vector<Vec3<double>> pts;
@@ -29,16 +30,18 @@ void BodyAssembler::addBody(const std::vector<Vec3<double>>& points, double elem
   if (points.empty() || !(mass > 0)) throw std::invalid_argument("BodyAssembler::addBody: empty body or mass <= 0");
   const int count = static_cast<int>(points.size());
   const double share = mass / count;
-  const RigidBodyMass b = rigidBodyMass(count, [&](int k) { return points[k]; }, [&](int) { return share; });
+  const RigidBodyMass b = rigidBodyMass(
+      count, [&](int k) { return points[k]; }, [&](int) { return share; });
   // Fewer than three non-collinear elements have a singular inertia tensor (no rotation about
   // their line): such a body cannot be integrated.
   const Sym3<double>& J = b.inertia;
-  const double det = J.xx * (J.yy * J.zz - J.yz * J.yz) - J.xy * (J.xy * J.zz - J.yz * J.xz) +
-                     J.xz * (J.xy * J.yz - J.yy * J.xz);
+  const double det =
+      J.xx * (J.yy * J.zz - J.yz * J.yz) - J.xy * (J.xy * J.zz - J.yz * J.xz) + J.xz * (J.xy * J.yz - J.yy * J.xz);
   const double scale = J.xx + J.yy + J.zz;
   if (!(det > 1e-9 * scale * scale * scale))
-    throw std::invalid_argument("BodyAssembler::addBody: the elements lie on a line or a point (singular inertia); "
-                                "use a finer element spacing");
+    throw std::invalid_argument(
+        "BodyAssembler::addBody: the elements lie on a line or a point (singular inertia); "
+        "use a finer element spacing");
   const Vec3<double> V{v[0], v[1], v[2]}, W{w[0], w[1], w[2]};
   double bounding = 0;
   for (const Vec3<double>& p : points) {

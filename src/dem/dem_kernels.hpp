@@ -119,7 +119,7 @@ struct BuildNeighbourList {
   const int* start;  // pass 2 input
   int* list;         // pass 2 output (nullptr in pass 1)
   T skin;
-  T range_factor = T(0);  // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
+  T range_factor = T(0);         // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
   const int* body_of = nullptr;  // DCDEM: elements of one body (same id >= 0) never pair
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi = pos[i];

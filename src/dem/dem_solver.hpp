@@ -510,7 +510,8 @@ class DemSolver final : public DemEngine {
   static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
 
   // The error a diverged step stops the run with: the first particle that moved more than 3e14 m
-  // or to NaN/Inf since the last neighbour build (by host number), where it was at the last neighbour build, its velocity, the step.
+  // (or to NaN/Inf) since the last neighbour build, by host number, with its position then and
+  // now, its velocity and the solver step.
   core::SimulationError divergence(T dt) const {
     std::vector<Vec3<T>> pos, ref, vel;
     std::vector<int> id;

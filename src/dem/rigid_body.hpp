@@ -157,7 +157,8 @@ struct BodyKickDrift {
     b.pos[k] += dt * b.vel[k];
     const Quat<T> q0 = b.q[k];
     const Vec3<T> L = b.ang_mom[k];
-    const Quat<T> q_half = quatMul(quatFromRotationVector((T(0.5) * dt) * angularVelocity(q0, b.inv_inertia_body[k], L)), q0);
+    const Quat<T> q_half =
+        quatMul(quatFromRotationVector((T(0.5) * dt) * angularVelocity(q0, b.inv_inertia_body[k], L)), q0);
     const Vec3<T> w_half = angularVelocity(q_half, b.inv_inertia_body[k], L);
     b.q[k] = quatNormalized(quatMul(quatFromRotationVector(dt * w_half), q0));
     b.omega[k] = angularVelocity(b.q[k], b.inv_inertia_body[k], L);
@@ -213,9 +214,9 @@ struct BodyExternalWork {
 template <class T>
 struct PlaceElements {
   BodyView<T> b;
-  const int* body_of;        // per current index; -1: a free sphere, left alone
-  const int* id;             // host number per current index
-  const Vec3<T>* offset;     // body-frame position of each element, by host number
+  const int* body_of;     // per current index; -1: a free sphere, left alone
+  const int* id;          // host number per current index
+  const Vec3<T>* offset;  // body-frame position of each element, by host number
   Vec3<T>* pos;
   Vec3<T>* vel;
   Vec3<T>* omega;

@@ -378,7 +378,8 @@ Schema buildSchema() {
              [](Scene& sc) -> std::string& { return sc.dem.representation; },
              "Balls as analytic spheres, or as DCDEM rigid bodies the way the paper's DualSPHysics set-up "
              "builds them: particles on a cubic lattice of element_spacing filling each ball, contacts "
-             "particle on particle (bumpy surfaces, R* = element_spacing / 4). Drum cases, dry or wet (the fluid sees each ball as its shell, as for spheres)."),
+             "particle on particle (bumpy surfaces, R* = element_spacing / 4). Drum cases, dry or wet (the "
+             "fluid sees each ball as its shell, as for spheres)."),
       number("dem", "element_spacing", "m", above(0),
              [](Scene& sc) -> double& { return sc.dem.element_spacing; },
              "Particle spacing dp of the DCDEM balls (paper: 0.005); used with representation=\"dcdem\"."),

@@ -154,7 +154,8 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
   std::vector<StudyRow> rows;
   // --only PROBLEM[:AXIS]: run just those rows (to add or redo an axis without the rest).
   const std::size_t colon = only.find(':');
-  const std::string only_problem = only.substr(0, colon), only_axis = colon == std::string::npos ? "" : only.substr(colon + 1);
+  const std::string only_problem = only.substr(0, colon),
+                    only_axis = colon == std::string::npos ? "" : only.substr(colon + 1);
   auto want = [&](const char* problem, const char* axis) {
     return only.empty() || (only_problem == problem && (only_axis.empty() || only_axis == axis));
   };
@@ -172,9 +173,11 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
     for (int n : quick ? std::vector<int>{10, 20} : std::vector<int>{20, 40, 80})
       rows.push_back(damBreak(source_dir, "dp", "a/" + std::to_string(n), {dp(n)}));
   if (want("dam_break_2d", "kernel"))
-    for (const char* k : {"cubic"}) rows.push_back(damBreak(source_dir, "kernel", k, {base_dp, std::string("sph.kernel=") + k}));
+    for (const char* k : {"cubic"})
+      rows.push_back(damBreak(source_dir, "kernel", k, {base_dp, std::string("sph.kernel=") + k}));
   if (want("dam_break_2d", "ddt"))
-    for (const char* d : {"none", "molteni"}) rows.push_back(damBreak(source_dir, "ddt", d, {base_dp, std::string("sph.ddt=") + d}));
+    for (const char* d : {"none", "molteni"})
+      rows.push_back(damBreak(source_dir, "ddt", d, {base_dp, std::string("sph.ddt=") + d}));
   if (want("dam_break_2d", "integrator"))
     rows.push_back(damBreak(source_dir, "integrator", "symplectic", {base_dp, "sph.integrator=symplectic"}));
   if (want("dam_break_2d", "cfl"))
@@ -204,7 +207,8 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
       rows.push_back(drumAngle(source_dir, quick, "dt_divisor", "t_c/" + std::to_string(n),
                                {"time.dt_divisor=" + std::to_string(n)}));
   if (!quick) {
-    if (want("drum_300", "seed")) rows.push_back(drumAngle(source_dir, quick, "seed", "charge seed 2", {"charge.seed=2"}));
+    if (want("drum_300", "seed"))
+      rows.push_back(drumAngle(source_dir, quick, "seed", "charge seed 2", {"charge.seed=2"}));
     if (want("drum_300", "youngs_modulus"))
       for (double young : {1e7, 1e9, 2e11}) {
         char label[32], set[64];
@@ -216,7 +220,8 @@ std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir
     // The paper's ball representation: DualSPHysics DCDEM bodies of 5 mm particles (t_c/50 of
     // their element contacts), against analytic spheres.
     if (want("drum_300", "representation"))
-      rows.push_back(drumAngle(source_dir, quick, "representation", "DCDEM balls (dp = 5 mm)", {"dem.representation=dcdem"}));
+      rows.push_back(
+          drumAngle(source_dir, quick, "representation", "DCDEM balls (dp = 5 mm)", {"dem.representation=dcdem"}));
   }
   fillDrumErrors(rows);
   return rows;
@@ -313,9 +318,9 @@ void writeAccuracyStudy(const std::vector<StudyRow>& rows, const std::string& ou
   };
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const StudyRow& r = rows[i];
-    out << cell(r.problem) << "," << cell(r.axis) << "," << cell(r.setting) << "," << r.error << "," << r.value << "," << r.wall_s << ","
-        << (r.simulated_s > 0 ? r.wall_s / r.simulated_s : 0.0) << "," << r.particles << "," << r.steps << ","
-        << r.backend << "," << (on_front[i] ? 1 : 0) << "\n";
+    out << cell(r.problem) << "," << cell(r.axis) << "," << cell(r.setting) << "," << r.error << "," << r.value << ","
+        << r.wall_s << "," << (r.simulated_s > 0 ? r.wall_s / r.simulated_s : 0.0) << "," << r.particles << ","
+        << r.steps << "," << r.backend << "," << (on_front[i] ? 1 : 0) << "\n";
   }
   for (const std::string problem : {"dam_break_2d", "hertz_impact", "drum_300"}) {
     // Relative errors are plotted in %, the drum's angle difference in degrees.

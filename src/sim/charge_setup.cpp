@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <tuple>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "dem/dcdem_bodies.hpp"
 #include "dem/dem_kernels.hpp"

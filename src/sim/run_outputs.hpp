@@ -1,7 +1,6 @@
 #pragma once
 // Writers for what a run leaves in OUT/: series.csv (one row per series interval, flushed so a
 // crash loses nothing written), summary.json, and the progress line on a terminal.
-#include "dem/dem_engine.hpp"
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "dem/dem_engine.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/sim/simulation.hpp"
 

@@ -22,8 +22,8 @@
 #include "sim/drum_motion.hpp"
 #include "sim/run_outputs.hpp"
 #include "sim/sph_run.hpp"
-#include "sim/wet_mill.hpp"
 #include "sim/stirred_run.hpp"
+#include "sim/wet_mill.hpp"
 
 namespace millsim::sim {
 
@@ -53,7 +53,8 @@ struct Simulation::Impl {
   dem::DemSums sums0;
 
   Impl(const scene::Scene& s, const RunOptions& o) : scene(s), options(o) {
-    if (!scene.effect_dem) throw core::InputError(scene.source, 0, "the case has no <dem> element: nothing to simulate");
+    if (!scene.effect_dem)
+      throw core::InputError(scene.source, 0, "the case has no <dem> element: nothing to simulate");
     if (options.threads > 0) omp_set_num_threads(options.threads);
     charge = buildCharge(scene);
     const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
@@ -161,8 +162,8 @@ struct Simulation::Impl {
       const double x = s.pos[3 * i], y = s.pos[3 * i + 1], z = s.pos[3 * i + 2];
       if (std::sqrt(x * x + y * y) > R + tol || z < -tol || z > zmax + tol) {
         std::ostringstream m;
-        m << "DEM: ball " << i << " escaped the drum at t = " << t << " s, position (" << x << ", " << y << ", "
-          << z << ") m: contacts too soft for the speeds reached (raise E or lower dt)";
+        m << "DEM: ball " << i << " escaped the drum at t = " << t << " s, position (" << x << ", " << y << ", " << z
+          << ") m: contacts too soft for the speeds reached (raise E or lower dt)";
         throw core::SimulationError(m.str());
       }
     }
@@ -312,14 +313,14 @@ namespace {
 
 // The real arrays of a checkpoint, by dataset name: the DEM state and the DCDEM bodies.
 std::vector<std::pair<const char*, std::vector<double>*>> stateArrays(dem::DemHostState& s) {
-  return {{"pos", &s.pos},         {"vel", &s.vel},         {"omega", &s.omega},
-          {"radius", &s.radius},   {"mass", &s.mass},       {"inertia", &s.inertia},
-          {"hist_xi", &s.hist_xi}, {"dissipated", &s.dissipated}, {"work_in", &s.work_in}};
+  return {{"pos", &s.pos},        {"vel", &s.vel},         {"omega", &s.omega},     {"radius", &s.radius},
+          {"mass", &s.mass},      {"inertia", &s.inertia}, {"hist_xi", &s.hist_xi}, {"dissipated", &s.dissipated},
+          {"work_in", &s.work_in}};
 }
 
 std::vector<std::pair<const char*, std::vector<double>*>> bodyArrays(dem::DemBodies& b) {
-  return {{"body_pos", &b.pos},   {"body_vel", &b.vel},         {"body_ang_mom", &b.ang_mom},
-          {"body_quat", &b.quat}, {"body_mass", &b.mass},       {"body_inertia", &b.inertia},
+  return {{"body_pos", &b.pos},       {"body_vel", &b.vel},      {"body_ang_mom", &b.ang_mom},
+          {"body_quat", &b.quat},     {"body_mass", &b.mass},    {"body_inertia", &b.inertia},
           {"body_offset", &b.offset}, {"body_radius", &b.radius}};
 }
 
@@ -367,7 +368,8 @@ void Simulation::Impl::restoreCheckpoint() {
   for (const auto& [key, v] : stateArrays(s)) *v = real(key);
   s.hist_id = cp.ints.at("hist_id");
   if (!dcdem && cp.ints.count("body_start"))
-    throw core::InputError(options.restart + ": checkpoint holds DCDEM bodies, the case asks for spheres "
+    throw core::InputError(options.restart +
+                           ": checkpoint holds DCDEM bodies, the case asks for spheres "
                            "(add dem representation=\"dcdem\")");
   engine->setState(s);
   if (dcdem) {

@@ -88,7 +88,8 @@ TEST(HertzLaw, DualSphysicsTangentialIsViscousDragAtThePapersSettings) {
 TEST(HertzLaw, DampingCoefficientsMatchReference) {
   // Closed forms of reference/contact.md.
   const double l = std::log(0.39);
-  EXPECT_NEAR(dem::dampingAlpha(dem::DampingModel::kExact, 0.39), std::sqrt(5.0) * -l / std::sqrt(M_PI * M_PI + l * l), 1e-15);
+  EXPECT_NEAR(dem::dampingAlpha(dem::DampingModel::kExact, 0.39), std::sqrt(5.0) * -l / std::sqrt(M_PI * M_PI + l * l),
+              1e-15);
   EXPECT_NEAR(dem::dampingAlpha(dem::DampingModel::kDualSphysics, 0.39), -2 * l / std::sqrt(M_PI + l * l), 1e-15);
   // Seed form gamma_n = C_n sqrt(6 M* E* sqrt(R*)) = alpha sqrt(M* k_n) -> C_n = alpha sqrt(2/9),
   // which must equal the sheet's C_n = sqrt(10)/3 (-ln e)/sqrt(pi^2 + ln^2 e) = 0.3026 for e = 0.39

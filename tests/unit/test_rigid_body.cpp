@@ -52,8 +52,8 @@ TEST(RigidBody, LatticeBallInertiaIsIsotropicAndTendsToSolidSphere) {
           const Vec3<double> p{double(i), double(j), double(k)};
           if (core::norm2(p) <= ratio * ratio + 1e-9) pts.push_back(p);
         }
-    const RigidBodyMass b = rigidBodyMass(static_cast<int>(pts.size()), [&](int k) { return pts[k]; },
-                                          [](int) { return 2.0; });
+    const RigidBodyMass b = rigidBodyMass(
+        static_cast<int>(pts.size()), [&](int k) { return pts[k]; }, [](int) { return 2.0; });
     EXPECT_DOUBLE_EQ(b.mass, 2.0 * pts.size());
     EXPECT_NEAR(core::norm(b.centre), 0.0, 1e-12);
     EXPECT_NEAR(b.inertia.yy / b.inertia.xx, 1.0, 1e-13);
@@ -74,7 +74,8 @@ TEST(RigidBody, LatticeBallInertiaIsIsotropicAndTendsToSolidSphere) {
 TEST(RigidBody, PointMassTensorOfATiltedDumbbell) {
   const double a = 0.3, m = 1.5, c = std::sqrt(0.5);
   const Vec3<double> pts[2] = {{1 + a * c, 2 + a * c, 3}, {1 - a * c, 2 - a * c, 3}};
-  const RigidBodyMass b = rigidBodyMass(2, [&](int k) { return pts[k]; }, [&](int) { return m; });
+  const RigidBodyMass b = rigidBodyMass(
+      2, [&](int k) { return pts[k]; }, [&](int) { return m; });
   EXPECT_NEAR(b.centre.x, 1.0, 1e-15);
   EXPECT_NEAR(b.centre.y, 2.0, 1e-15);
   EXPECT_NEAR(b.inertia.zz, 2 * m * a * a, 1e-14);

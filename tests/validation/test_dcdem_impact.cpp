@@ -62,7 +62,8 @@ TEST(Dcdem, HeadOnLatticeBallsGiveTheRestitutionAndHertzTimeOfOneElementContact)
     a.addBody(shifted(ball, {-(kBallR + 0.5 * gap), 0, 0.5}), 0.5 * kDp, ballMass(), {0.5 * v, 0, 0});
     a.addBody(shifted(ball, {kBallR + 0.5 * gap, 0, 0.5}), 0.5 * kDp, ballMass(), {-0.5 * v, 0, 0});
     auto engine = makeBodyEngine(sc, a);
-    const double tc = dem::hertzContactTime(0.5 * ballMass(), 0.25 * kDp, dem::effectiveModulus(sc.young, sc.poisson), v);
+    const double tc =
+        dem::hertzContactTime(0.5 * ballMass(), 0.25 * kDp, dem::effectiveModulus(sc.young, sc.poisson), v);
     const double dt = tc / 400;
     // The leading elements sit at +-(R - dp/2) from the centres: they touch when the centres are
     // 2 R - dp + dp = 2 R apart.
@@ -180,8 +181,8 @@ TEST(Dcdem, LatticeBallComesToRestOnAWallCarryingItsWeight) {
 // and 1.2e-8 (wall work): bound 1e-6. With the orientations reset on restart (tried): kinetic
 // energy x24, dissipation x4.8.
 TEST(Dcdem, DrumRunRestartsFromItsCheckpoint) {
-  const std::vector<std::string> base{"dem.representation=dcdem", "dem.element_spacing=0.0025",
-                                      "output.fields_every=0", "output.checkpoint_every=0"};
+  const std::vector<std::string> base{"dem.representation=dcdem", "dem.element_spacing=0.0025", "output.fields_every=0",
+                                      "output.checkpoint_every=0"};
   auto run = [&](std::vector<std::string> extra, const std::string& name, const std::string& restart = "") {
     std::vector<std::string> sets = base;
     sets.insert(sets.end(), extra.begin(), extra.end());

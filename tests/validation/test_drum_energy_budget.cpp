@@ -59,18 +59,16 @@ TEST(DrumEnergyBudget, ClosesOverOneSecondPaperContactModel) {
   expectBudgetCloses({"dem.damping=dualsphysics", "dem.friction_smoothing=tanh"}, "budget_paper");
 }
 
-
 // The same budget with the paper's DCDEM balls (10 mm balls of 19 elements at dp = 2.5 mm in the
 // small test drum, 0.7 s of rotation after the compaction): the element contacts book their
 // dissipation and wall work per element and the bodies integrate the summed loads, so the
 // budget must close as tightly as with spheres (measured: -0.93% of the work; spheres in the
 // same drum and window -0.85%).
 TEST(DrumEnergyBudget, ClosesWithDcdemBalls) {
-  const testing::CaseOutput r =
-      testing::runCase("minimal_drum",
-                       {"dem.representation=dcdem", "dem.element_spacing=0.0025", "output.fields_every=0",
-                        "output.checkpoint_every=0"},
-                       "budget_dcdem");
+  const testing::CaseOutput r = testing::runCase(
+      "minimal_drum",
+      {"dem.representation=dcdem", "dem.element_spacing=0.0025", "output.fields_every=0", "output.checkpoint_every=0"},
+      "budget_dcdem");
   ASSERT_EQ(r.summary["status"], "ok");
   const Budget b = windowBudget(r, 0.3, 1.0);
   ::testing::Test::RecordProperty("residual_relative", std::to_string(b.residual / b.work));

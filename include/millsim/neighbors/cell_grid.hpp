@@ -2,8 +2,9 @@
 // Uniform cell grid for cell-linked neighbour search (2D: nz = 1 and z ignored). Particles are
 // sorted by cell key so the particles of one cell are contiguous; a query visits the block of
 // (2 reach + 1)^dim cells around a point: reach 1 with cells of the interaction distance (DEM),
-// reach 2 with cells of half of it (SPH: 125 h^3 searched instead of 216 h^3 in 3D). Points outside the grid are clamped into the border cells, which
-// keeps every pair within one cell size in adjacent cells (the distance test decides the rest).
+// reach 2 with cells of half of it (SPH: 125 h^3 searched instead of 216 h^3 in 3D). Points outside the grid are
+// clamped into the border cells, which keeps every pair within one cell size in adjacent cells (the distance test
+// decides the rest).
 #include "millsim/core/hd.hpp"
 #include "millsim/core/vec3.hpp"
 

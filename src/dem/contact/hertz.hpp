@@ -25,9 +25,9 @@ namespace millsim::dem {
 
 template <class T>
 struct HertzParams {
-  T k_coef = 0;      // 4/3 E*  [Pa]; k_n = k_coef sqrt(R*)
-  T alpha = 0;       // damping: gamma_n = alpha sqrt(m* k_n)
-  T friction = 0;    // mu
+  T k_coef = 0;    // 4/3 E*  [Pa]; k_n = k_coef sqrt(R*)
+  T alpha = 0;     // damping: gamma_n = alpha sqrt(m* k_n)
+  T friction = 0;  // mu
 };
 
 template <class T>
