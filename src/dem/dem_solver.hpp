@@ -399,8 +399,12 @@ class DemSolver final : public DemEngine {
   template <class Walls>
   void stepWith(const Walls& walls, T dt) {
     ++m_steps;
-    // Before KickDrift clears the element forces (a new held external load may have changed them).
-    if (m_nb > 0) bodyLoads();
+    // The body loads of the last contact pass are current, unless a new held external load came
+    // since: then they are summed again before KickDrift clears the element forces.
+    if (m_body_loads_stale) {
+      bodyLoads();
+      m_body_loads_stale = false;
+    }
     backend::parallelFor(Space{}, m_n, KickDrift<T>{view(), dt});
     m_sums_cleared = true;
     if (m_nb > 0) {
@@ -582,6 +586,7 @@ class DemSolver final : public DemEngine {
     m_body_ext_torque.copyFromHost(t);
     if (m_body_work_ext.size() != static_cast<std::size_t>(m_nb)) m_body_work_ext.resize(m_nb, 0.0);
     m_has_body_external = !force.empty();
+    m_body_loads_stale = true;
   }
 
   void placeElements() {
@@ -887,6 +892,7 @@ class DemSolver final : public DemEngine {
   std::vector<double> m_body_radius, m_body_mass_host, m_body_inertia_host;  // as given to setBodies
   // Loads from outside (the fluid) per body, and their work; only in coupled runs.
   bool m_has_body_external = false;
+  bool m_body_loads_stale = false;  // a new external load since the last bodyLoads()
   backend::Array<Space, Vec3<T>> m_body_ext_force, m_body_ext_torque;
   backend::Array<Space, double> m_body_work_ext;
 };
