@@ -38,9 +38,10 @@ struct ContactResult {
   T elastic_energy;       // normal elastic energy 2/5 k_n d^5/2 [J] (tangential work is in the rate)
 };
 
-// The pair's constants: k_n = k_coef sqrt(R*) and gamma_n / d^1/4 = alpha sqrt(m* k_n). (Caching
-// them per neighbour-list slot was measured slower on 49k balls: the extra 16 bytes a slot cost
-// more memory traffic than the two square roots they save.)
+// The pair's constants k_n = k_coef sqrt(R*) and gamma_n / d^1/4 = alpha sqrt(m* k_n), which
+// DualSPHysics's tangential law needs on their own. (Caching them per neighbour-list slot was
+// measured slower on 49k balls: the extra 16 bytes a slot cost more memory traffic than the
+// square roots they save.)
 template <class T>
 struct PairStiffness {
   T kn;
@@ -55,22 +56,25 @@ MILLSIM_HD PairStiffness<T> hertzStiffness(const HertzParams<T>& p, T r_star, T 
   return {kn, p.alpha * std::sqrt(m_star * kn)};
 }
 
-// The normal part shared by the laws: F_n = k_n d^3/2 - gamma_n d^1/4 v_n (eq. 51).
+// The normal part shared by the laws: F_n = k_n d^3/2 - gamma_n d^1/4 v_n (eq. 51), written with
+// the contact radius a = sqrt(R* d) so it takes two square roots, not four:
+//   k_n d^1/2 = k_coef a,   gamma_n d^1/4 = alpha sqrt(m* k_n) d^1/4 = alpha sqrt(m* k_coef a).
 template <class T>
 struct HertzNormal {
-  T fn;          // signed normal force (> 0 repulsive)
-  T gamma;       // gamma_n d^1/4
-  T sqrt_delta;  // d^1/2
-  T elastic;     // 2/5 k_n d^5/2
+  T fn;       // signed normal force (> 0 repulsive)
+  T gamma;    // gamma_n d^1/4
+  T k_tan;    // dF_n/dd of the elastic part: 3/2 k_n d^1/2
+  T elastic;  // 2/5 k_n d^5/2
 };
 
 template <class T>
-MILLSIM_HD HertzNormal<T> hertzNormal(PairStiffness<T> k, T delta, T vn) {
+MILLSIM_HD HertzNormal<T> hertzNormal(const HertzParams<T>& p, T r_star, T m_star, T delta, T vn) {
   HertzNormal<T> h;
-  h.sqrt_delta = std::sqrt(delta);
-  h.gamma = k.gamma0 * std::sqrt(h.sqrt_delta);
-  h.fn = k.kn * delta * h.sqrt_delta - h.gamma * vn;
-  h.elastic = T(0.4) * k.kn * delta * delta * h.sqrt_delta;
+  const T kn_sqrt_delta = p.k_coef * std::sqrt(r_star * delta);  // k_n d^1/2
+  h.gamma = p.alpha * std::sqrt(m_star * kn_sqrt_delta);
+  h.fn = kn_sqrt_delta * delta - h.gamma * vn;
+  h.k_tan = T(1.5) * kn_sqrt_delta;
+  h.elastic = T(0.4) * kn_sqrt_delta * delta * delta;
   return h;
 }
 
@@ -81,21 +85,27 @@ struct HertzMindlin {
   MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
                                          core::Vec3<T>& xi, T dt) const {
     using core::Vec3;
-    const PairStiffness<T> k = hertzStiffness(p, r_star, m_star);
-    const T kn = k.kn;
     const T vn = core::dot(v_rel, n);
-    const HertzNormal<T> h = hertzNormal(k, delta, vn);
-    const T sqrt_delta = h.sqrt_delta, gamma = h.gamma, fn = h.fn;
+    const HertzNormal<T> h = hertzNormal(p, r_star, m_star, delta, vn);
+    const T gamma = h.gamma, fn = h.fn;
 
     const Vec3<T> vt = v_rel - vn * n;
     // Carry the spring onto the current tangent plane, keeping its length (rigid rotation).
+    // The length ratio is 1/sqrt(1 - c), c = (xi.n)^2 / |xi|^2, and c is tiny (~theta^2 for
+    // the angle theta the normal turned in one step, 1e-8 in a dense drum): there the series
+    // 1 + c/2 + 3c^2/8 (error 5/16 c^3 < 1e-16 for c < 1e-6) replaces the square root, which
+    // sat on the pair's dependency chain (measured in docs/performance.md).
     const T xi_len2 = core::norm2(xi);
-    xi -= core::dot(xi, n) * n;
-    const T new_len2 = core::norm2(xi);
-    if (new_len2 > T(1e-6) * xi_len2 && new_len2 > T(0)) xi = std::sqrt(xi_len2 / new_len2) * xi;
+    const T xn = core::dot(xi, n);
+    xi -= xn * n;
+    if (xi_len2 > T(0)) {
+      const T c = xn * xn / xi_len2;
+      if (c < T(1e-6)) xi = (T(1) + c * (T(0.5) + T(0.375) * c)) * xi;
+      else if (c < T(1) - T(1e-6)) xi = (T(1) / std::sqrt(T(1) - c)) * xi;
+    }
     xi += dt * vt;
 
-    const T kt = T(3) / T(7) * kn * sqrt_delta;
+    const T kt = T(2) / T(7) * h.k_tan;
     const T gt = T(2) / T(7) * gamma;
     Vec3<T> ft = -(kt * xi) - gt * vt;
     T limit = p.friction * (fn > T(0) ? fn : T(0));
@@ -135,7 +145,7 @@ struct HertzDualSphysicsTangential {
     using core::Vec3;
     const PairStiffness<T> k = hertzStiffness(p, r_star, m_star);
     const T vn = core::dot(v_rel, n);
-    const HertzNormal<T> h = hertzNormal(k, delta, vn);
+    const HertzNormal<T> h = hertzNormal(p, r_star, m_star, delta, vn);
     const Vec3<T> vt = v_rel - vn * n;
     const T vt_len = core::norm(vt);
     const T elastic_branch = (k.kn * dt - k.gamma0) * vt_len / T(3.5);
