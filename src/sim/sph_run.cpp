@@ -88,6 +88,8 @@ void SphRun::writeSummary(const sph::SphSums& now, const std::vector<double>& la
   j["sph"] = {{"dimension", m_setup.dimension}, {"dp_m", m_setup.dp},         {"h_m", m_setup.h},
               {"c0_m_s", m_setup.c0},           {"kernel", m_setup.kernel},   {"ddt", m_setup.ddt},
               {"viscosity", m_setup.viscosity}, {"integrator", m_setup.integrator}, {"shifting", m_setup.shifting}};
+  // The laminar viscosity's stability limit on the step (viscous_stability.hpp), when there is one.
+  if (std::isfinite(m_engine->viscousDtLimit())) j["sph"]["dt_viscous_limit_s"] = m_engine->viscousDtLimit();
   const long long excluded = now.excluded_density + now.excluded_domain;
   j["excluded"] = {{"density", now.excluded_density},
                    {"domain", now.excluded_domain},

@@ -79,8 +79,11 @@ class SphEngine {
   virtual void getState(SphHostState& s) const = 0;
   // Neighbours and forces of the current state (call after setState).
   virtual void initialize(const SphMotion& now) = 0;
-  // Time step from the last force evaluation: CFL (eqs. 40-41) or the fixed one.
+  // Time step from the last force evaluation: CFL (eqs. 40-41) or the fixed one, and never above
+  // the laminar viscosity's stability limit.
   virtual double nextDt() const = 0;
+  // That limit (viscous_stability.hpp), s; infinite without the laminar viscosity.
+  virtual double viscousDtLimit() const = 0;
   // One step of dt; moving boundaries at `half` (symplectic predictor) and `end`.
   void step(double dt, const SphMotion& half, const SphMotion& end) {
     beginStep(dt, half);

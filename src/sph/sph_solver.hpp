@@ -18,6 +18,7 @@
 #include "sph/kernels.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
+#include "sph/viscous_stability.hpp"
 
 namespace millsim::sph {
 
@@ -143,7 +144,20 @@ class SphSolver final : public SphEngine {
     m_fluid_cells.setGrid(m_cells.grid());
     m_symplectic = s.integrator == "symplectic";
     m_evaluations_per_step = m_symplectic ? 2 : 1;
+    if (s.viscosity == "laminar_sps")
+      withKernel([&](auto kernel) {
+        m_dt_visc = laminarDtLimit(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h, s.nu, m_symplectic,
+                                   s.verlet_steps);
+      });
+    if (s.fixed_dt && s.dt_fixed > m_dt_visc / kViscousDtMargin)
+      throw core::InputError("sph: the fixed time step " + std::to_string(s.dt_fixed) + " s is above the stability " +
+                             "limit of the laminar viscosity, " + std::to_string(m_dt_visc / kViscousDtMargin) +
+                             " s for nu = " + std::to_string(s.nu) + " m2/s with this kernel, h and integrator " +
+                             "(Verlet's limit is about 15 times lower than the symplectic scheme's); use dt=\"auto\"");
   }
+
+  // The laminar viscosity's stability limit (viscous_stability.hpp); infinite otherwise.
+  double viscousDtLimit() const override { return m_dt_visc; }
 
   double interactionsPerEvaluation() override {
     return backend::reduceSum<double>(Space{}, m_n,
@@ -253,7 +267,8 @@ class SphSolver final : public SphEngine {
     // which is not a time).
     const double dt_f = acc > 0 ? std::sqrt(h / acc) : std::numeric_limits<double>::infinity();
     const double dt_c = h / (m_setup.c0 + visc);
-    const double dt = m_setup.cfl * std::min(dt_f, dt_c);
+    // The laminar term's own limit (not scaled by the CFL number: it carries its own margin).
+    const double dt = std::min(m_setup.cfl * std::min(dt_f, dt_c), m_dt_visc);
     if (!std::isfinite(dt) || dt <= 0)
       throw core::SimulationError("SPH: time step is not finite (NaN in accelerations or velocities)");
     return dt;
@@ -520,6 +535,7 @@ class SphSolver final : public SphEngine {
   int m_n = 0;
   long long m_step = 0;
   bool m_symplectic = false, m_has_moving = false;
+  double m_dt_visc = std::numeric_limits<double>::infinity();
   T m_mass = 0, m_eta2 = 0, m_support2 = 0;
   double m_g_abs = 0;
   TaitEos<T> m_eos;

@@ -10,6 +10,7 @@
 #include "sph/eos.hpp"
 #include "sph/kernels.hpp"
 #include "sph/viscosity.hpp"
+#include "sph/viscous_stability.hpp"
 
 namespace millsim {
 namespace {
@@ -184,6 +185,53 @@ TEST(SphViscosity, LaminarTermConvergesToTheLaplacianOnALattice) {
       EXPECT_NEAR(acc.y, 0.0, 1e-12);
     }
   }
+}
+
+// The Verlet scheme's viscous limit (viscous_stability.hpp) against the recurrence itself:
+// dv/dt = -lambda v stepped with Euler every Ns steps and leap-frog otherwise decays at 0.95 x
+// the limit and grows at 1.05 x it. Ns = 40 (DualSPHysics's default): 0.1353 (an independent scan of the
+// cycle's spectral radius in 1% steps put the first growth between 0.1353 and 0.1366).
+TEST(SphViscousStability, VerletLimitSeparatesDecayFromGrowth) {
+  for (int ns : {10, 40, 80}) {
+    const double limit = sph::verletViscousLimit(ns);
+    auto amplitude = [ns](double mu) {
+      double v = 1, v_m1 = 1, peak = 0;
+      for (int step = 0; step < 400 * ns; ++step) {
+        const bool euler = (step + 1) % ns == 0;
+        const double next = euler ? v - mu * v : v_m1 - 2 * mu * v;
+        v_m1 = v;
+        v = next;
+        if (step > 300 * ns) peak = std::max(peak, std::abs(v));
+      }
+      return peak;
+    };
+    EXPECT_LT(amplitude(0.95 * limit), 1e-3) << "Ns = " << ns;
+    EXPECT_GT(amplitude(1.05 * limit), 1.0) << "Ns = " << ns;
+  }
+  EXPECT_NEAR(sph::verletViscousLimit(40), 0.1353, 0.0003);
+}
+
+// The fastest decay rate of the laminar term on a lattice: at least that of the checkerboard
+// mode v = cos(pi (i + j)) computed with the viscosity functor itself, and (for these kernels
+// and h) reached at the zone's corner, so equal to it.
+TEST(SphViscousStability, LaminarRateIsTheCheckerboardRateOfTheFunctor) {
+  const double dp = 0.001, rho0 = 1000, nu = 1e-3;
+  const auto z = sph::zeroSym3<double>();
+  const double h = std::sqrt(2.0) * dp, eta2 = 0.01 * h * h;
+  const auto k = sph::WendlandC2<2, double>::make(h);
+  const sph::ViscosityLaminarSps<double> visc{nu, eta2};
+  double acc = 0;  // on a (v_a = 1) from its neighbours b (v_b = (-1)^(i + j))
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j) {
+      const Vec3<double> r_ab{-i * dp, -j * dp, 0};
+      const double r2 = core::norm2(r_ab);
+      if (r2 <= 0 || r2 >= 4 * h * h) continue;
+      const Vec3<double> v_ab{1.0 - ((i + j) % 2 == 0 ? 1.0 : -1.0), 0, 0};
+      acc += visc(r_ab, v_ab, r2, k.fac(std::sqrt(r2)), rho0, rho0, rho0 * dp * dp, false, z, z).x;
+    }
+  const double rate = sph::laminarRateMax(k, 2, h, dp, eta2);
+  EXPECT_NEAR(rate * nu, -acc, 1e-9 * rate * nu);
+  EXPECT_NEAR(rate * h * h, 6.309, 0.001);  // the value docs/validation.md quotes
 }
 
 TEST(SphViscosity, SpsStressOfSimpleShear) {
