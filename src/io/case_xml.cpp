@@ -510,7 +510,8 @@ Schema buildSchema() {
               "Ns: an Euler step every Ns Verlet steps."),
       number("sph", "cfl", "", range('(', 0, 1, ']'), [](Scene& sc) -> double& { return sc.sph.cfl; },
              "Courant number of the variable time step (eqs. 40-41) when time.dt = auto; with laminar_sps the "
-             "step also stays below the viscous term's stability limit (summary.json: sph.dt_viscous_limit_s)."),
+             "step also stays below the viscous term's stability limit, and with ddt below the density diffusion's "
+             "(summary.json: sph.dt_viscous_limit_s, sph.dt_ddt_limit_s)."),
       choice("sph", "shifting", {"none", "full"}, [](Scene& sc) -> std::string& { return sc.sph.shifting; },
              "Fickian particle shifting (eqs. 44-45), off where div r < shift_tfs (free surface)."),
       number("sph", "shift_coef", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.shift_coef; },

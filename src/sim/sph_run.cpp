@@ -88,8 +88,9 @@ void SphRun::writeSummary(const sph::SphSums& now, const std::vector<double>& la
   j["sph"] = {{"dimension", m_setup.dimension}, {"dp_m", m_setup.dp},         {"h_m", m_setup.h},
               {"c0_m_s", m_setup.c0},           {"kernel", m_setup.kernel},   {"ddt", m_setup.ddt},
               {"viscosity", m_setup.viscosity}, {"integrator", m_setup.integrator}, {"shifting", m_setup.shifting}};
-  // The laminar viscosity's stability limit on the step (viscous_stability.hpp), when there is one.
+  // The diffusion terms' stability limits on the step (diffusion_stability.hpp), when they are on.
   if (std::isfinite(m_engine->viscousDtLimit())) j["sph"]["dt_viscous_limit_s"] = m_engine->viscousDtLimit();
+  if (std::isfinite(m_engine->ddtDtLimit())) j["sph"]["dt_ddt_limit_s"] = m_engine->ddtDtLimit();
   const long long excluded = now.excluded_density + now.excluded_domain;
   j["excluded"] = {{"density", now.excluded_density},
                    {"domain", now.excluded_domain},

@@ -80,10 +80,11 @@ class SphEngine {
   // Neighbours and forces of the current state (call after setState).
   virtual void initialize(const SphMotion& now) = 0;
   // Time step from the last force evaluation: CFL (eqs. 40-41) or the fixed one, and never above
-  // the laminar viscosity's stability limit.
+  // the stability limits of the laminar viscosity and the density diffusion.
   virtual double nextDt() const = 0;
-  // That limit (viscous_stability.hpp), s; infinite without the laminar viscosity.
+  // Those limits (diffusion_stability.hpp), s; infinite for a term that is off.
   virtual double viscousDtLimit() const = 0;
+  virtual double ddtDtLimit() const = 0;
   // One step of dt; moving boundaries at `half` (symplectic predictor) and `end`.
   void step(double dt, const SphMotion& half, const SphMotion& end) {
     beginStep(dt, half);

@@ -18,7 +18,7 @@
 #include "sph/kernels.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
-#include "sph/viscous_stability.hpp"
+#include "sph/diffusion_stability.hpp"
 
 namespace millsim::sph {
 
@@ -144,20 +144,26 @@ class SphSolver final : public SphEngine {
     m_fluid_cells.setGrid(m_cells.grid());
     m_symplectic = s.integrator == "symplectic";
     m_evaluations_per_step = m_symplectic ? 2 : 1;
-    if (s.viscosity == "laminar_sps")
-      withKernel([&](auto kernel) {
-        m_dt_visc = laminarDtLimit(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h, s.nu, m_symplectic,
-                                   s.verlet_steps);
-      });
-    if (s.fixed_dt && s.dt_fixed > m_dt_visc / kViscousDtMargin)
+    withKernel([&](auto kernel) {
+      m_dt_limits = diffusionDtLimits(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h,
+                                      s.viscosity == "laminar_sps" ? s.nu : 0.0, s.ddt == "none" ? 0.0 : s.ddt_value,
+                                      s.c0, m_symplectic, s.verlet_steps);
+    });
+    const double visc_limit = m_dt_limits.viscous / kViscousDtMargin;
+    if (s.fixed_dt && s.dt_fixed > m_dt_limits.ddt)
       throw core::InputError("sph: the fixed time step " + std::to_string(s.dt_fixed) + " s is above the stability " +
-                             "limit of the laminar viscosity, " + std::to_string(m_dt_visc / kViscousDtMargin) +
+                             "limit of the density diffusion, " + std::to_string(m_dt_limits.ddt) + " s for ddt_value = " +
+                             std::to_string(s.ddt_value) + " with this kernel, h, c0 and integrator; use dt=\"auto\"");
+    if (s.fixed_dt && s.dt_fixed > visc_limit)
+      throw core::InputError("sph: the fixed time step " + std::to_string(s.dt_fixed) + " s is above the stability " +
+                             "limit of the laminar viscosity, " + std::to_string(visc_limit) +
                              " s for nu = " + std::to_string(s.nu) + " m2/s with this kernel, h and integrator " +
                              "(Verlet's limit is about 15 times lower than the symplectic scheme's); use dt=\"auto\"");
   }
 
-  // The laminar viscosity's stability limit (viscous_stability.hpp); infinite otherwise.
-  double viscousDtLimit() const override { return m_dt_visc; }
+  // The stability limits of the diffusion terms (diffusion_stability.hpp); infinite when off.
+  double viscousDtLimit() const override { return m_dt_limits.viscous; }
+  double ddtDtLimit() const override { return m_dt_limits.ddt; }
 
   double interactionsPerEvaluation() override {
     return backend::reduceSum<double>(Space{}, m_n,
@@ -267,8 +273,8 @@ class SphSolver final : public SphEngine {
     // which is not a time).
     const double dt_f = acc > 0 ? std::sqrt(h / acc) : std::numeric_limits<double>::infinity();
     const double dt_c = h / (m_setup.c0 + visc);
-    // The laminar term's own limit (not scaled by the CFL number: it carries its own margin).
-    const double dt = std::min(m_setup.cfl * std::min(dt_f, dt_c), m_dt_visc);
+    // The diffusion terms' own limits (not scaled by the CFL number: they carry their margins).
+    const double dt = std::min({m_setup.cfl * std::min(dt_f, dt_c), m_dt_limits.viscous, m_dt_limits.ddt});
     if (!std::isfinite(dt) || dt <= 0)
       throw core::SimulationError("SPH: time step is not finite (NaN in accelerations or velocities)");
     return dt;
@@ -535,7 +541,7 @@ class SphSolver final : public SphEngine {
   int m_n = 0;
   long long m_step = 0;
   bool m_symplectic = false, m_has_moving = false;
-  double m_dt_visc = std::numeric_limits<double>::infinity();
+  DiffusionDtLimits m_dt_limits;
   T m_mass = 0, m_eta2 = 0, m_support2 = 0;
   double m_g_abs = 0;
   TaitEos<T> m_eos;

@@ -10,7 +10,7 @@
 #include "sph/eos.hpp"
 #include "sph/kernels.hpp"
 #include "sph/viscosity.hpp"
-#include "sph/viscous_stability.hpp"
+#include "sph/diffusion_stability.hpp"
 
 namespace millsim {
 namespace {
@@ -187,13 +187,13 @@ TEST(SphViscosity, LaminarTermConvergesToTheLaplacianOnALattice) {
   }
 }
 
-// The Verlet scheme's viscous limit (viscous_stability.hpp) against the recurrence itself:
+// The Verlet scheme's diffusion limit (diffusion_stability.hpp) against the recurrence itself:
 // dv/dt = -lambda v stepped with Euler every Ns steps and leap-frog otherwise decays at 0.95 x
 // the limit and grows at 1.05 x it. Ns = 40 (DualSPHysics's default): 0.1353 (an independent scan of the
 // cycle's spectral radius in 1% steps put the first growth between 0.1353 and 0.1366).
 TEST(SphViscousStability, VerletLimitSeparatesDecayFromGrowth) {
   for (int ns : {10, 40, 80}) {
-    const double limit = sph::verletViscousLimit(ns);
+    const double limit = sph::verletDiffusionLimit(ns);
     auto amplitude = [ns](double mu) {
       double v = 1, v_m1 = 1, peak = 0;
       for (int step = 0; step < 400 * ns; ++step) {
@@ -208,7 +208,7 @@ TEST(SphViscousStability, VerletLimitSeparatesDecayFromGrowth) {
     EXPECT_LT(amplitude(0.95 * limit), 1e-3) << "Ns = " << ns;
     EXPECT_GT(amplitude(1.05 * limit), 1.0) << "Ns = " << ns;
   }
-  EXPECT_NEAR(sph::verletViscousLimit(40), 0.1353, 0.0003);
+  EXPECT_NEAR(sph::verletDiffusionLimit(40), 0.1353, 0.0003);
 }
 
 // The fastest decay rate of the laminar term on a lattice: at least that of the checkerboard
@@ -229,7 +229,7 @@ TEST(SphViscousStability, LaminarRateIsTheCheckerboardRateOfTheFunctor) {
       const Vec3<double> v_ab{1.0 - ((i + j) % 2 == 0 ? 1.0 : -1.0), 0, 0};
       acc += visc(r_ab, v_ab, r2, k.fac(std::sqrt(r2)), rho0, rho0, rho0 * dp * dp, false, z, z).x;
     }
-  const double rate = sph::laminarRateMax(k, 2, h, dp, eta2);
+  const double rate = sph::latticeDiffusionRate(k, 2, h, dp, eta2);
   EXPECT_NEAR(rate * nu, -acc, 1e-9 * rate * nu);
   EXPECT_NEAR(rate * h * h, 6.309, 0.001);  // the value docs/validation.md quotes
 }

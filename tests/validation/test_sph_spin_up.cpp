@@ -8,7 +8,7 @@
 // nu = 5e-4 m2/s, c0 = 1 m/s (20 x the wall speed).
 //
 // At these settings the CFL step of the paper's eq. 40 (0.2 h / c0) puts the Verlet scheme at
-// 2.6 times its viscous stability limit (viscous_stability.hpp): without the limit, thousands of
+// 2.6 times its viscous stability limit (diffusion_stability.hpp): without the limit, thousands of
 // particles left the density bounds within 0.1 s. With it: none, and the profile below.
 // Accuracy (docs/validation.md): the fluid lags the wall early (-0.14 Omega R one spacing inside
 // the wall at t nu/R^2 = 0.02, the sharpest shear) and runs ahead in the interior later (+0.08

@@ -1,21 +1,26 @@
 #pragma once
-// Time-step limit of the laminar viscous term (Lo & Shao, viscosity.hpp) for the explicit
-// integrators. Host side, evaluated once per set-up.
+// Time-step limits of the two diffusion terms of the SPH equations for the explicit integrators:
+// the laminar viscosity (Lo & Shao, viscosity.hpp) and the density diffusion (Molteni,
+// Fourtakas: density_diffusion.hpp). Host side, evaluated once per set-up.
 //
-// The term is linear in the velocities: dv_a/dt = -sum_b 2 nu V_b |fac_ab| r^2/(r^2 + eta^2) v_ab
-// (rho_a = rho_b). On the lattice of spacing dp a velocity mode exp(i k.x) decays at
-//   lambda(k) = nu sum_b 2 V_b |fac(r_b)| r_b^2/(r_b^2 + eta^2) (1 - cos k.r_b),
-// largest for the shortest waves; laminarRateMax returns max_k lambda(k) / nu over the
-// Brillouin zone (Wendland, h = sqrt(2) dp, 2D: 6.31 / h^2; h = 0.8 sqrt(3) dp, 3D: 6.69 / h^2).
-// An integrator is stable for that mode while mu = lambda dt stays below its limit:
+// Both are linear in what they diffuse. The viscous term, dv_a/dt = -sum_b 2 nu V_b |fac_ab|
+// r^2/(r^2 + eta^2) v_ab (rho_a = rho_b), makes a lattice mode exp(i k.x) decay at
+//   lambda(k) = nu sum_b 2 V_b |fac(r_b)| r_b^2/(r_b^2 + eta^2) (1 - cos k.r_b) = nu rate(k),
+// and the density diffusion, with its coefficient 2 delta h c0 in place of 4 nu / 2, at
+// delta h c0 rate(k). latticeDiffusionRate returns max_k rate(k) over the Brillouin zone
+// (Wendland, h = sqrt(2) dp, 2D: 6.31 / h^2; h = 0.8 sqrt(3) dp, 3D: 6.69 / h^2).
+// An integrator is stable for a mode while mu = lambda dt stays below its limit:
 //   - symplectic (predictor-corrector, v_(n+1) = (1 - mu + mu^2/2) v_n): mu <= 2;
 //   - Verlet: the leap-frog v_(n+1) = v_(n-1) - 2 mu v_n has a parasitic root of modulus
 //     1 + mu, which only the Euler step every Ns steps holds back: stable for mu <= 0.1353 at
-//     Ns = 40 (verletViscousLimit, from the spectral radius of the Ns-step cycle), 15 times
+//     Ns = 40 (verletDiffusionLimit, from the spectral radius of the Ns-step cycle), 15 times
 //     tighter than the symplectic scheme.
-// Measured (tests/validation/test_sph_spin_up.cpp, 2D, Verlet): stable at mu = 0.12, growing
-// noise at 0.137 (1.01 x the limit), thousands of particles out of the density bounds at 0.36. The CFL condition
-// of the paper (eq. 40) has no viscous term, so a run with a large nu can sit past the limit.
+// The CFL step of the paper (eq. 40, dt = CFL h / c0) has neither term. For the viscosity that
+// leaves a run with a large nu past the limit (tests/validation/test_sph_spin_up.cpp, 2D,
+// Verlet: stable at mu = 0.12, growing noise at 0.137, thousands of particles out of the
+// density bounds at 0.36). For the density diffusion mu = delta rate h^2 CFL whatever h and c0:
+// 0.126 (2D) and 0.134 (3D) at the paper's delta = 0.1, CFL = 0.2, 0.93 and 0.99 of the Verlet
+// limit; delta = 0.15 blew the 2D hydrostatic column up within 0.03 s (docs/validation.md).
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -25,7 +30,7 @@
 namespace millsim::sph {
 
 template <class Kernel>
-double laminarRateMax(const Kernel& kernel, int dim, double h, double dp, double eta2) {
+double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, double eta2) {
   struct Offset {
     double x, y, z, w;
   };
@@ -61,7 +66,7 @@ double laminarRateMax(const Kernel& kernel, int dim, double h, double dp, double
 // Largest mu = lambda dt for which the Verlet cycle (ns - 1 leap-frog steps and one Euler step)
 // does not grow a decaying mode dv/dt = -lambda v (ns >= 1; leap-frog alone, with no Euler
 // step, is unstable for any mu > 0).
-inline double verletViscousLimit(int ns) {
+inline double verletDiffusionLimit(int ns) {
   auto radius = [ns](double mu) {
     // State (v_n, v_(n-1)); Euler: v_(n+1) = (1 - mu) v_n; leap-frog: v_(n+1) = v_(n-1) - 2 mu v_n.
     double m[2][2] = {{1 - mu, 0}, {1, 0}};
@@ -89,20 +94,29 @@ inline double verletViscousLimit(int ns) {
   return lo;
 }
 
-// Stability limit of the time step for a laminar viscosity nu, times kViscousDtMargin for the
-// particle disorder the lattice estimate does not see. Infinite when nu = 0.
+// The step limits of one set-up: the laminar viscosity's (nu > 0) at kViscousDtMargin of its
+// stability limit, for the particle disorder the lattice estimate does not see; the density
+// diffusion's (delta > 0) at the limit itself, so the paper's settings (0.99 of it in 3D, run
+// for years in DualSPHysics) keep their CFL step. Infinite for a term that is off.
 inline constexpr double kViscousDtMargin = 0.7;
+struct DiffusionDtLimits {
+  double viscous = INFINITY, ddt = INFINITY;
+};
 template <class Kernel>
-double laminarDtLimit(const Kernel& kernel, int dim, double h, double dp, double eta2, double nu, bool symplectic,
-                      int verlet_steps) {
-  if (nu <= 0) return INFINITY;
+DiffusionDtLimits diffusionDtLimits(const Kernel& kernel, int dim, double h, double dp, double eta2, double nu,
+                                    double ddt_delta, double c0, bool symplectic, int verlet_steps) {
+  DiffusionDtLimits l;
+  if (nu <= 0 && ddt_delta <= 0) return l;
   if (!symplectic && verlet_steps <= 0)
     throw core::InputError(
         "sph: Verlet without Euler steps (verlet_steps = 0) is unstable with the laminar "
-        "viscosity for any time step; set verlet_steps (DualSPHysics: 40) or use the symplectic "
-        "integrator");
-  const double mu = symplectic ? 2.0 : verletViscousLimit(verlet_steps);
-  return kViscousDtMargin * mu / (nu * laminarRateMax(kernel, dim, h, dp, eta2));
+        "viscosity or density diffusion for any time step; set verlet_steps (DualSPHysics: 40) "
+        "or use the symplectic integrator");
+  const double mu = symplectic ? 2.0 : verletDiffusionLimit(verlet_steps);
+  const double rate = latticeDiffusionRate(kernel, dim, h, dp, eta2);
+  if (nu > 0) l.viscous = kViscousDtMargin * mu / (nu * rate);
+  if (ddt_delta > 0) l.ddt = mu / (ddt_delta * h * c0 * rate);
+  return l;
 }
 
 }  // namespace millsim::sph
