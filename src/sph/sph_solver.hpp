@@ -15,10 +15,10 @@
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 #include "sph/density_diffusion.hpp"
+#include "sph/diffusion_stability.hpp"
 #include "sph/kernels.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
-#include "sph/diffusion_stability.hpp"
 
 namespace millsim::sph {
 
