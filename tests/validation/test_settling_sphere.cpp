@@ -26,7 +26,11 @@
 //   compressed the fluid by ~8% (65 particles left the density bounds). Now c0 = 3 m/s (0.9%):
 //   +53% (0.0654 m/s, steady, nothing excluded; 13 299 steps, 1 904 s on two threads): 0.94 of
 //   the unbounded velocity, i.e. the tube's hindrance is almost absent. Shifting off: +164%.
-//   Next: no-slip of DBC walls with the laminar term against an analytic wall flow.
+// - the runs above were past the Verlet scheme's viscous stability limit (lambda dt = 0.16
+//   against 0.135 at c0 = 3 m/s, 0.48 at c0 = 1; test_sph_spin_up.cpp). With the step now
+//   capped (20 928 steps, 3 422 s on two threads): +52% (0.0650 m/s), so that was not the cause.
+//   DBC no-slip holds on a moving wall at 40 dp (test_sph_spin_up.cpp, ring next to the wall
+//   within 0.5%); what remains is the resolution of the sphere and the gap (R = 3 dp).
 //
 // Terminal velocity: the mean over the last acoustic period of the column (at least 3 tau_v) of
 // the run, which ends when the sphere's centre is 4 d above the bottom. The steady check compares
