@@ -24,6 +24,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <string>
+#include <vector>
 
 #include "millsim/core/error.hpp"
 
@@ -36,15 +38,14 @@ double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, 
   };
   const int n = static_cast<int>(std::ceil(2 * h / dp));
   const int nz = dim == 3 ? n : 0;
-  Offset neighbours[4096];
-  int count = 0;
+  std::vector<Offset> neighbours;  // every lattice neighbour within the support: none may be left out
   for (int k = -nz; k <= nz; ++k)
     for (int j = -n; j <= n; ++j)
       for (int i = -n; i <= n; ++i) {
         const double x = i * dp, y = j * dp, z = k * dp, r2 = x * x + y * y + z * z;
-        if (r2 <= 0 || r2 >= 4 * h * h || count == 4096) continue;
+        if (r2 <= 0 || r2 >= 4 * h * h) continue;
         const double fac = std::abs(double(kernel.fac(static_cast<decltype(kernel.h)>(std::sqrt(r2)))));
-        neighbours[count++] = {x, y, z, 2 * std::pow(dp, dim) * fac * r2 / (r2 + eta2)};
+        neighbours.push_back({x, y, z, 2 * std::pow(dp, dim) * fac * r2 / (r2 + eta2)});
       }
   // The neighbour set is symmetric in each axis, so k in [0, pi/dp]^dim covers the zone.
   const int steps = 24;
@@ -54,10 +55,7 @@ double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, 
     for (int b = 0; b <= steps; ++b)
       for (int a = 0; a <= steps; ++a) {
         double rate = 0;
-        for (int q = 0; q < count; ++q) {
-          const Offset& o = neighbours[q];
-          rate += o.w * (1 - std::cos(dk * (a * o.x + b * o.y + c * o.z)));
-        }
+        for (const Offset& o : neighbours) rate += o.w * (1 - std::cos(dk * (a * o.x + b * o.y + c * o.z)));
         best = std::max(best, rate);
       }
   return best;

@@ -149,16 +149,16 @@ class SphSolver final : public SphEngine {
                                       s.viscosity == "laminar_sps" ? s.nu : 0.0, s.ddt == "none" ? 0.0 : s.ddt_value,
                                       s.c0, m_symplectic, s.verlet_steps);
     });
-    const double visc_limit = m_dt_limits.viscous / kViscousDtMargin;
-    if (s.fixed_dt && s.dt_fixed > m_dt_limits.ddt)
-      throw core::InputError("sph: the fixed time step " + std::to_string(s.dt_fixed) + " s is above the stability " +
-                             "limit of the density diffusion, " + std::to_string(m_dt_limits.ddt) + " s for ddt_value = " +
-                             std::to_string(s.ddt_value) + " with this kernel, h, c0 and integrator; use dt=\"auto\"");
-    if (s.fixed_dt && s.dt_fixed > visc_limit)
-      throw core::InputError("sph: the fixed time step " + std::to_string(s.dt_fixed) + " s is above the stability " +
-                             "limit of the laminar viscosity, " + std::to_string(visc_limit) +
-                             " s for nu = " + std::to_string(s.nu) + " m2/s with this kernel, h and integrator " +
-                             "(Verlet's limit is about 15 times lower than the symplectic scheme's); use dt=\"auto\"");
+    // A fixed step past a limit (the viscous one without its margin) is refused, naming it.
+    auto refuse = [&](double limit, const std::string& term) {
+      if (s.fixed_dt && s.dt_fixed > limit)
+        throw core::InputError("sph: the fixed time step " + std::to_string(s.dt_fixed) + " s is above the stability " +
+                               "limit of the " + term + ", " + std::to_string(limit) + " s with this kernel, h and " +
+                               "integrator (Verlet's limit is about 15 times lower than the symplectic scheme's); " +
+                               "use dt=\"auto\"");
+    };
+    refuse(m_dt_limits.ddt, "density diffusion (ddt_value = " + std::to_string(s.ddt_value) + ")");
+    refuse(m_dt_limits.viscous / kViscousDtMargin, "laminar viscosity (nu = " + std::to_string(s.nu) + " m2/s)");
   }
 
   // The stability limits of the diffusion terms (diffusion_stability.hpp); infinite when off.

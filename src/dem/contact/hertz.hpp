@@ -93,7 +93,7 @@ struct HertzMindlin {
     // Carry the spring onto the current tangent plane, keeping its length (rigid rotation).
     // The length ratio is 1/sqrt(1 - c), c = (xi.n)^2 / |xi|^2, and c is tiny (~theta^2 for
     // the angle theta the normal turned in one step, 1e-8 in a dense drum): there the series
-    // 1 + c/2 + 3c^2/8 (error 5/16 c^3 < 1e-16 for c < 1e-6) replaces the square root, which
+    // 1 + c/2 + 3c^2/8 (error 5/16 c^3 < 1e-18 for c < 1e-6) replaces the square root, which
     // sat on the pair's dependency chain (measured in docs/performance.md).
     const T xi_len2 = core::norm2(xi);
     const T xn = core::dot(xi, n);
