@@ -499,6 +499,10 @@ Schema buildSchema() {
              "alpha multiplier for fluid-boundary pairs (paper's wet mill: 0.1)."),
       number("sph", "nu", "m^2/s", atLeast(0), [](Scene& sc) -> double& { return sc.sph.nu; },
              "Kinematic viscosity for laminar_sps (paper's slurry: 8.1e-6)."),
+      choice("sph", "wall_velocity", {"dbc", "no_slip"}, [](Scene& sc) -> std::string& { return sc.sph.wall_velocity; },
+             "Wall particles in the viscous terms: dbc, their own velocity (DualSPHysics and the paper; the fluid "
+             "slips about a spacing past the wall); no_slip, 2 v_wall minus the mean velocity of the fluid next to "
+             "them (Adami et al. 2012): no slip at the wall surface, for viscous flows."),
       choice("sph", "ddt", {"none", "molteni", "fourtakas"}, [](Scene& sc) -> std::string& { return sc.sph.ddt; },
              "Density diffusion: none, Molteni & Colagrossi 2009, Fourtakas et al. 2019 (eqs. 17-20)."),
       number("sph", "ddt_value", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.ddt_value; },

@@ -82,6 +82,7 @@ sph::SphSetup sphSolverSetup(const scene::Scene& sc, double still_water_height) 
   s.gamma = p.gamma;
   s.alpha = p.alpha;
   s.visco_bound_factor = p.visco_bound_factor;
+  s.wall_velocity = p.wall_velocity;
   s.nu = p.nu;
   s.ddt_value = p.ddt_value;
   s.shift_coef = p.shift_coef;

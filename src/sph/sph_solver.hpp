@@ -220,6 +220,7 @@ class SphSolver final : public SphEngine {
       m_shift_grad.resize(n, core::zero3<T>());
       m_shift_div.resize(n, T(0));
     }
+    if (m_setup.wall_velocity == "no_slip") m_wall_visc_vel.resize(n, core::zero3<T>());
     if (m_setup.viscosity == "laminar_sps") {
       m_strain.resize(n, zeroSym3<T>());
       m_tau.resize(n, zeroSym3<T>());
@@ -422,7 +423,8 @@ class SphSolver final : public SphEngine {
                                m_body_omega.bytes()},
             {"sph.integrator", m_vel_m1.bytes() + m_rho_m1.bytes() + m_pos_pre.bytes() + m_vel_pre.bytes() +
                                    m_rho_pre.bytes()},
-            {"sph.forces", m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes()},
+            {"sph.forces",
+             m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes() + m_wall_visc_vel.bytes()},
             {"sph.shifting", m_shift_grad.bytes() + m_shift_div.bytes()},
             {"sph.sps", m_strain.bytes() + m_tau.bytes()},
             {"sph.reorder_scratch", m_scratch_vec.bytes() + m_scratch_real.bytes() + m_scratch_int.bytes() +
@@ -443,7 +445,8 @@ class SphSolver final : public SphEngine {
 
   SphView<T> view() {
     return {m_pos.data(),   m_vel.data(),        m_rho.data(),       m_code.data(),   m_press.data(), m_ace.data(),
-            m_drho.data(),  m_visc.data(),       m_shift_grad.data(), m_shift_div.data(), m_strain.data(), m_tau.data()};
+            m_drho.data(),  m_visc.data(),       m_shift_grad.data(), m_shift_div.data(), m_strain.data(), m_tau.data(),
+            m_wall_visc_vel.size() > 0 ? m_wall_visc_vel.data() : m_vel.data()};
   }
 
   BoundaryMotion<T> motionOf(const SphMotion& m) const {
@@ -521,6 +524,11 @@ class SphSolver final : public SphEngine {
     backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
     const SphView<T> p = view();
     withKernel([&](auto kernel) {
+      if (m_wall_visc_vel.size() > 0)
+        backend::parallelFor(
+            Space{}, m_n,
+            WallNoSlipVelocity<T, decltype(kernel)>{m_fluid_cells.view(), m_pos.data(), m_vel.data(), m_code.data(),
+                                                    kernel, m_support2, m_wall_visc_vel.data()});
       withDdt([&](auto ddt) {
         withVisc([&](auto visc) {
           withShift([&](auto shift) {
@@ -548,6 +556,7 @@ class SphSolver final : public SphEngine {
   Vec3<T> m_gravity{}, m_up{}, m_lo{}, m_hi{};
   neighbors::CellList<Space, T> m_cells, m_fluid_cells;
   backend::Array<Space, Vec3<T>> m_pos, m_vel, m_pos0, m_vel_m1, m_pos_pre, m_vel_pre, m_ace, m_shift_grad;
+  backend::Array<Space, Vec3<T>> m_wall_visc_vel;  // wall_velocity = no_slip only
   backend::Array<Space, T> m_rho, m_rho_m1, m_rho_pre, m_press, m_drho, m_visc, m_shift_div;
   backend::Array<Space, int> m_code, m_id;
   // Bodies (DEM balls carrying a shell of body particles): per particle, per body.

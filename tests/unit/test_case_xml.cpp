@@ -548,7 +548,7 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "angle_of_repose.smoothing_px", "angle_of_repose.fit_offset_mm",
       "angle_of_repose.fit_length_mm",
       "sph.dimension", "sph.dp", "sph.kernel", "sph.coefh", "sph.coefsound", "sph.hswl", "sph.rho0",
-      "sph.gamma", "sph.viscosity", "sph.alpha", "sph.visco_bound_factor", "sph.nu", "sph.ddt",
+      "sph.gamma", "sph.viscosity", "sph.alpha", "sph.visco_bound_factor", "sph.nu", "sph.wall_velocity", "sph.ddt",
       "sph.ddt_value", "sph.integrator", "sph.verlet_steps", "sph.cfl", "sph.shifting", "sph.shift_coef",
       "sph.shift_tfs", "sph.rhop_out_min", "sph.rhop_out_max", "sph.parts_out_max", "sph.boundary_layers",
       "sph.initial_density",
