@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -18,6 +19,8 @@
 #include "millsim/calib/sse_map.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/vision/video_angle.hpp"
+#include "mpi_ranks.hpp"
+#include "mpi_ranks.hpp"
 
 namespace millsim::cli {
 
@@ -114,7 +117,8 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateArgs& a) {
   c->add_option("--patience", a.patience, "Stop after this many successive candidates without improvement")
       ->capture_default_str();
   c->add_option("--max-evals", a.max_evals, "Most candidates in all (each runs every diameter)")->capture_default_str();
-  c->add_option("--parallel", a.parallel, "Candidates simulated at once (threads)")->capture_default_str();
+  c->add_option("--parallel", a.parallel, "Candidates simulated at once per process (threads; under mpirun, per rank)")
+      ->capture_default_str();
   c->add_option("--method", a.method, "bo: Gaussian process + expected improvement; paper: thin-plate SSE argmin")
       ->check(CLI::IsMember({"bo", "paper"}))
       ->capture_default_str();
@@ -184,14 +188,25 @@ int calibrateCommand(const CalibrateArgs& a) {
   options.max_evals = a.max_evals;
   options.parallel = a.parallel;
   options.seed = a.seed;
+  // Under mpirun each rank simulates its share of every batch; rank 0 keeps the journal, prints
+  // and writes the outputs (docs/cluster.md).
+  const MpiSession& mpi = mpiSession();
+  options.ranks = mpi.ranks();
+  const int n_ranks = mpi.ranks() ? mpi.ranks()->size() : 1;
   calib::Calibrator calibrator(objective, options);
-  calib::Journal journal((std::filesystem::path(a.out) / "evaluations.csv").string(), objective.signature(), labels);
-  if (!journal.loaded().empty())
-    std::fprintf(stderr, "calibrate: resuming: %zu evaluations from %s\n", journal.loaded().size(),
-                 journal.path().c_str());
+  std::unique_ptr<calib::Journal> journal;
+  if (mpi.leader()) {
+    journal = std::make_unique<calib::Journal>((std::filesystem::path(a.out) / "evaluations.csv").string(),
+                                               objective.signature(), labels);
+    if (!journal->loaded().empty())
+      std::fprintf(stderr, "calibrate: resuming: %zu evaluations from %s\n", journal->loaded().size(),
+                   journal->path().c_str());
+    if (n_ranks > 1)
+      std::fprintf(stderr, "calibrate: %d MPI ranks, batches of %d candidates\n", n_ranks, n_ranks * a.parallel);
+  }
 
   const auto progress = [&](const calib::Evaluation& ev, const calib::CalibrationState& s) {
-    if (a.quiet) return;
+    if (a.quiet || !mpi.leader()) return;
     std::string angles;
     char buf[64];
     for (double x : ev.angles_deg) {
@@ -210,9 +225,11 @@ int calibrateCommand(const CalibrateArgs& a) {
                  ev.candidate.mu, angles.c_str(), buf, s.best >= 0 ? b.sse : NAN, b.candidate.e, b.candidate.mu,
                  s.since_improvement, a.patience, ev.wall_s, ev.ok ? "" : " : ", ev.ok ? "" : ev.error.c_str());
   };
-  const calib::CalibrationResult r = calibrator.run(&journal, progress);
+  const calib::CalibrationResult r = calibrator.run(journal.get(), progress);
   const calib::CalibrationState& s = r.state;
-  if (s.best < 0) throw std::runtime_error("calibrate: every candidate failed (see " + journal.path() + ")");
+  const std::string journal_path = (std::filesystem::path(a.out) / "evaluations.csv").string();
+  if (s.best < 0) throw std::runtime_error("calibrate: every candidate failed (see " + journal_path + ")");
+  if (!mpi.leader()) return 0;  // the other ranks' share is in the journal rank 0 wrote
 
   // --- outputs ---
   const std::filesystem::path out(a.out);
@@ -251,6 +268,7 @@ int calibrateCommand(const CalibrateArgs& a) {
   j["precision"] = a.precision;
   j["threads_per_run"] = a.threads;
   j["parallel"] = a.parallel;
+  j["mpi_ranks"] = n_ranks;
   j["e_range"] = {options.box.e_min, options.box.e_max};
   j["mu_range"] = {options.box.mu_min, options.box.mu_max};
   j["initial"] = a.initial;

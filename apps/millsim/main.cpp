@@ -17,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "calibrate_command.hpp"
+#include "mpi_ranks.hpp"
+#include "sweep_command.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
@@ -232,6 +234,9 @@ int infoCommand() {
   j["cuda_compiled"] = millsim::backend::cudaCompiled();
   j["cuda_devices"] = millsim::backend::cudaDevices();
   j["gpu"] = millsim::backend::cudaDeviceName();
+  j["mpi_compiled"] = millsim::cli::mpiCompiled();
+  const auto* ranks = millsim::cli::mpiSession().ranks();
+  j["mpi_ranks"] = ranks ? ranks->size() : 1;
   std::cout << j.dump(2) << std::endl;
   return 0;
 }
@@ -314,7 +319,16 @@ int compareDamBreakCommand(const std::vector<std::string>& dirs, double a, doubl
   return 0;
 }
 
+int runMain(int argc, char** argv);
+
 int main(int argc, char** argv) {
+  // MPI only when started by mpirun/srun (calibrate and sweep spread their runs over the ranks).
+  const millsim::cli::MpiSession mpi(&argc, &argv);
+  millsim::cli::setMpiSession(&mpi);
+  return runMain(argc, argv);
+}
+
+int runMain(int argc, char** argv) {
   CLI::App app{"millsim: DEM-SPH simulator for grinding mills"};
   app.require_subcommand(1);
   app.set_version_flag("--version", MILLSIM_VERSION_STRING);
@@ -372,7 +386,7 @@ int main(int argc, char** argv) {
   study_accuracy->add_option("--source", study_source, "Directory holding cases/ (default: the source tree)");
   std::string study_replot, study_only, study_merge;
   study_accuracy->add_option("--only", study_only,
-                             "Run only PROBLEM or PROBLEM:AXIS (dam_break_2d, hertz_impact, drum_300; e.g. "
+                             "Run only PROBLEM or PROBLEM:AXIS (dam_break_2d, hertz_impact, drum_300, wet_drum; e.g. "
                              "drum_300:representation)");
   study_accuracy->add_option("--merge", study_merge,
                              "Merge the rows run into this earlier accuracy_cost.csv (same problem/axis/setting "
@@ -409,6 +423,8 @@ int main(int argc, char** argv) {
 
   millsim::cli::CalibrateArgs calibrate_args;
   auto* calibrate = millsim::cli::addCalibrateCommand(app, calibrate_args);
+  millsim::cli::SweepArgs sweep_args;
+  auto* sweep = millsim::cli::addSweepCommand(app, sweep_args);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -428,6 +444,7 @@ int main(int argc, char** argv) {
     }
     if (info->parsed()) return infoCommand();
     if (calibrate->parsed()) return millsim::cli::calibrateCommand(calibrate_args);
+    if (sweep->parsed()) return millsim::cli::sweepCommand(sweep_args);
     if (dump_angle->parsed()) return angleFromDumpsCommand(dump_args);
     if (vision_angle->parsed() || vision_slurry->parsed()) {
       VisionArgs& a = vision_angle->parsed() ? angle_args : slurry_args;
@@ -455,6 +472,7 @@ int main(int argc, char** argv) {
     }
   } catch (const InputError& e) {
     std::cerr << "millsim: error: " << e.what() << std::endl;
+    millsim::cli::mpiSession().abortAll(2);  // the other ranks may be waiting in a collective call
     return 2;
   } catch (const SimulationError& e) {
     // Point at the last good state the run left: its checkpoint, else its last fields frame.
@@ -465,9 +483,11 @@ int main(int argc, char** argv) {
     else if (std::filesystem::exists(out / "fields.xdmf"))
       kept = "the last frame of " + (out / "fields.xdmf").string();
     std::cerr << "\nmillsim: simulation stopped: " << e.what() << " (last good state: " << kept << ")" << std::endl;
+    millsim::cli::mpiSession().abortAll(3);
     return 3;
   } catch (const std::exception& e) {
     std::cerr << "millsim: error: " << e.what() << std::endl;
+    millsim::cli::mpiSession().abortAll(1);
     return 1;
   }
   return 0;

@@ -5,13 +5,17 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <stdexcept>
 #include <thread>
 
 #include "millsim/calib/initial_design.hpp"
+#include "millsim/core/rank_group.hpp"
 
 namespace millsim::calib {
 
@@ -48,22 +52,108 @@ std::vector<DataPoint> Calibrator::data(const std::vector<Evaluation>& evaluatio
   return d;
 }
 
+namespace {
+
+// Evaluations and candidates between ranks: JSON with every double as its 64-bit pattern, so a
+// value (NaN for a failed run's angle included) arrives bit for bit and every rank takes the
+// same decisions from it.
+std::uint64_t bits(double x) {
+  std::uint64_t u;
+  std::memcpy(&u, &x, sizeof u);
+  return u;
+}
+double fromBits(std::uint64_t u) {
+  double x;
+  std::memcpy(&x, &u, sizeof x);
+  return x;
+}
+
+nlohmann::json candidateJson(const Candidate& c) { return {c.index, bits(c.e), bits(c.mu)}; }
+Candidate candidateFrom(const nlohmann::json& j) {
+  return {j.at(0).get<int>(), fromBits(j.at(1).get<std::uint64_t>()), fromBits(j.at(2).get<std::uint64_t>())};
+}
+
+std::string encodeCandidates(const std::vector<Candidate>& cs) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Candidate& c : cs) j.push_back(candidateJson(c));
+  return j.dump();
+}
+std::vector<Candidate> decodeCandidates(const std::string& text) {
+  std::vector<Candidate> cs;
+  for (const auto& c : nlohmann::json::parse(text)) cs.push_back(candidateFrom(c));
+  return cs;
+}
+
+// A rank's share of a batch: its evaluations, or the error that stopped it.
+std::string encodeEvaluations(const std::vector<Evaluation>& evs, const std::string& failure) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Evaluation& ev : evs) {
+    nlohmann::json angles = nlohmann::json::array();
+    for (double a : ev.angles_deg) angles.push_back(bits(a));
+    list.push_back({{"c", candidateJson(ev.candidate)},
+                    {"a", angles},
+                    {"sse", bits(ev.sse)},
+                    {"ok", ev.ok},
+                    {"error", ev.error},
+                    {"wall", bits(ev.wall_s)}});
+  }
+  return nlohmann::json{{"evaluations", list}, {"failure", failure}}.dump();
+}
+std::vector<Evaluation> decodeEvaluations(const std::string& text, std::string& failure) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  failure = j.at("failure").get<std::string>();
+  std::vector<Evaluation> evs;
+  for (const auto& e : j.at("evaluations")) {
+    Evaluation ev;
+    ev.candidate = candidateFrom(e.at("c"));
+    for (const auto& a : e.at("a")) ev.angles_deg.push_back(fromBits(a.get<std::uint64_t>()));
+    ev.sse = fromBits(e.at("sse").get<std::uint64_t>());
+    ev.ok = e.at("ok").get<bool>();
+    ev.error = e.at("error").get<std::string>();
+    ev.wall_s = fromBits(e.at("wall").get<std::uint64_t>());
+    evs.push_back(std::move(ev));
+  }
+  return evs;
+}
+
+}  // namespace
+
 CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& progress) {
   const auto wall0 = std::chrono::steady_clock::now();
   const CalibrationOptions& o = m_options;
   CalibrationResult result;
   CalibrationState& state = result.state;
+  // Several ranks (MPI): rank 0 owns the journal and decides every batch; each rank simulates
+  // its share of a batch, and all ranks gather all results, so their states stay identical.
+  const core::RankGroup* ranks = o.ranks && o.ranks->size() > 1 ? o.ranks : nullptr;
+  std::vector<Evaluation> loaded = journal ? journal->loaded() : std::vector<Evaluation>{};
+  if (ranks) {
+    std::string none;
+    loaded = decodeEvaluations(ranks->broadcast(encodeEvaluations(loaded, "")), none);
+  }
   std::set<int> done;
-  if (journal)
-    for (const Evaluation& ev : journal->loaded())
-      if (done.insert(ev.candidate.index).second) state.evaluations.push_back(ev);
+  for (const Evaluation& ev : loaded)
+    if (done.insert(ev.candidate.index).second) state.evaluations.push_back(ev);
   state.resumed = static_cast<int>(state.evaluations.size());
   updateState(state, o.initial);
 
   std::mutex mutex;
-  // Evaluates `batch` on up to o.parallel threads; each result is stored and journalled as soon
-  // as it is there. The first exception stops the hand-out of further candidates.
+  // One finished evaluation: journalled, stored, the stop-rule state updated, reported.
+  const auto record = [&](const Evaluation& ev) {
+    if (journal) journal->append(ev);
+    state.evaluations.push_back(ev);
+    ++state.evaluated;
+    updateState(state, o.initial);
+    if (progress) progress(ev, state);
+  };
+  // Evaluates this rank's share of `batch` on up to o.parallel threads. On one rank each result
+  // is recorded as soon as it is there; on several, the shares are gathered and recorded in
+  // candidate order on every rank. The first exception stops the hand-out of further candidates.
   const auto evaluateBatch = [&](const std::vector<Candidate>& batch) {
+    std::vector<Candidate> mine;
+    for (std::size_t k = 0; k < batch.size(); ++k)
+      if (core::ownsItem(ranks, static_cast<int>(k))) mine.push_back(batch[k]);
+    std::vector<Evaluation> finished;
     std::atomic<std::size_t> next{0};
     std::exception_ptr failure;
     const auto worker = [&]() {
@@ -73,16 +163,15 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
           if (failure) return;
         }
         const std::size_t k = next++;
-        if (k >= batch.size()) return;
+        if (k >= mine.size()) return;
         try {
-          Evaluation ev = m_objective.evaluate(batch[k]);
-          ev.candidate = batch[k];
+          Evaluation ev = m_objective.evaluate(mine[k]);
+          ev.candidate = mine[k];
           std::lock_guard<std::mutex> lock(mutex);
-          if (journal) journal->append(ev);
-          state.evaluations.push_back(ev);
-          ++state.evaluated;
-          updateState(state, o.initial);
-          if (progress) progress(ev, state);
+          if (ranks)
+            finished.push_back(ev);
+          else
+            record(ev);
         } catch (...) {
           std::lock_guard<std::mutex> lock(mutex);
           if (!failure) failure = std::current_exception();
@@ -90,7 +179,7 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
         }
       }
     };
-    const int threads = std::min<int>(o.parallel, static_cast<int>(batch.size()));
+    const int threads = std::min<int>(o.parallel, static_cast<int>(mine.size()));
     if (threads <= 1) {
       worker();
     } else {
@@ -98,7 +187,36 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
       for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
       for (auto& t : pool) t.join();
     }
+    if (!ranks) {
+      if (failure) std::rethrow_exception(failure);
+      return;
+    }
+    std::string message;
+    if (failure) try {
+        std::rethrow_exception(failure);
+      } catch (const std::exception& e) {
+        message = e.what();
+      } catch (...) {
+        message = "unknown error";
+      }
+    std::vector<Evaluation> all;
+    std::string first_failure;
+    const std::vector<std::string> shares = ranks->allGather(encodeEvaluations(finished, message));
+    for (std::size_t r = 0; r < shares.size(); ++r) {
+      std::string f;
+      for (Evaluation& ev : decodeEvaluations(shares[r], f)) all.push_back(std::move(ev));
+      if (!f.empty() && first_failure.empty()) first_failure = "rank " + std::to_string(r) + ": " + f;
+    }
+    std::sort(all.begin(), all.end(),
+              [](const Evaluation& a, const Evaluation& b) { return a.candidate.index < b.candidate.index; });
+    for (const Evaluation& ev : all) record(ev);
     if (failure) std::rethrow_exception(failure);
+    if (!first_failure.empty()) throw std::runtime_error(first_failure);
+  };
+  // On several ranks rank 0's batch is the batch (a proposer's floating-point result could
+  // differ by a bit between machines; the decision must not).
+  const auto agreed = [&](const std::vector<Candidate>& batch) {
+    return ranks ? decodeCandidates(ranks->broadcast(encodeCandidates(batch))) : batch;
   };
 
   // 1. The initial design (only what the journal lacks).
@@ -109,9 +227,10 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
     const Point2 p = o.box.fromUnit(design[i]);
     pending.push_back({i, p[0], p[1]});
   }
-  evaluateBatch(pending);
+  evaluateBatch(agreed(pending));
 
-  // 2. Proposals until the stop rule or the budget.
+  // 2. Proposals until the stop rule or the budget; a batch has o.parallel candidates per rank.
+  const int batch_size = o.parallel * (ranks ? ranks->size() : 1);
   while (true) {
     const int total = static_cast<int>(state.evaluations.size());
     if (total >= o.max_evals) {
@@ -128,16 +247,17 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
       next_index = std::max(next_index, ev.candidate.index + 1);
       avoid.push_back(o.box.toUnit(ev.candidate.e, ev.candidate.mu));
     }
-    const int k = std::min(o.parallel, o.max_evals - total);
+    const int k = std::min(batch_size, o.max_evals - total);
     const std::vector<Point2> proposals = m_proposer->propose(data(state.evaluations), avoid, k);
-    if (proposals.empty()) {
-      result.stop_reason = "no candidate left";
-      break;
-    }
     std::vector<Candidate> batch;
     for (const Point2& u : proposals) {
       const Point2 p = o.box.fromUnit(u);
       batch.push_back({next_index++, p[0], p[1]});
+    }
+    batch = agreed(batch);
+    if (batch.empty()) {
+      result.stop_reason = "no candidate left";
+      break;
     }
     evaluateBatch(batch);
   }

@@ -10,10 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 
 #include "millsim/calib/analytic_objective.hpp"
 #include "millsim/calib/calibrator.hpp"
 #include "millsim/core/error.hpp"
+#include "support/thread_ranks.hpp"
 
 namespace calib = millsim::calib;
 namespace fs = std::filesystem;
@@ -179,6 +181,57 @@ TEST(Parallel, BatchesOfDistinctCandidatesOnThreads) {
     EXPECT_NEAR(best(r).candidate.mu, kMu0, 0.016) << method;
     calib::Journal again((dir / "evaluations.csv").string(), f.signature(), {});
     EXPECT_EQ(again.loaded().size(), r.state.evaluations.size());
+  }
+}
+
+// Ranks (MPI's code path, on threads here): 3 ranks of one candidate each take the same steps as
+// one process with 3 threads: same batches, same candidates, same result on every rank; only
+// rank 0 journals, and a resumed ranked calibration re-evaluates nothing.
+TEST(Ranks, ThreeRanksTakeTheStepsOfOneProcessWithThreeThreads) {
+  for (const std::string method : {"paper", "bo"}) {
+    const auto f = calib::noisyBowl(kE0, kMu0, 0.3);
+    calib::CalibrationOptions o = options(method, 21);
+    o.parallel = 3;
+    const auto threads = calib::Calibrator(f, o).run(nullptr);
+    const fs::path dir = freshDir("ranks_" + method);
+    const std::string path = (dir / "evaluations.csv").string();
+    std::vector<calib::CalibrationResult> per_rank(3);
+    std::atomic<int> calls{0};
+    millsim::testing::runOnRanks(3, [&](const millsim::core::RankGroup& ranks) {
+      CountingObjective counted(f);
+      calib::CalibrationOptions ro = options(method, 21);
+      ro.ranks = &ranks;
+      std::unique_ptr<calib::Journal> journal;
+      if (ranks.rank() == 0)
+        journal = std::make_unique<calib::Journal>(path, f.signature(), std::vector<std::string>{});
+      per_rank[ranks.rank()] = calib::Calibrator(counted, ro).run(journal.get());
+      calls += counted.calls();
+    });
+    EXPECT_EQ(calls.load(), static_cast<int>(threads.state.evaluations.size())) << method;  // each once
+    for (const auto& r : per_rank) {
+      ASSERT_EQ(r.state.evaluations.size(), threads.state.evaluations.size()) << method;
+      for (std::size_t i = 0; i < r.state.evaluations.size(); ++i) {
+        EXPECT_EQ(r.state.evaluations[i].candidate.e, threads.state.evaluations[i].candidate.e) << method << i;
+        EXPECT_EQ(r.state.evaluations[i].candidate.mu, threads.state.evaluations[i].candidate.mu) << method << i;
+        EXPECT_EQ(r.state.evaluations[i].sse, threads.state.evaluations[i].sse) << method << i;
+      }
+      EXPECT_EQ(r.recommended, threads.recommended) << method;
+      EXPECT_EQ(r.stop_reason, threads.stop_reason) << method;
+    }
+    calib::Journal journal(path, f.signature(), {});
+    EXPECT_EQ(journal.loaded().size(), threads.state.evaluations.size()) << method;
+    // Started again on 3 ranks with rank 0's journal: nothing is evaluated.
+    std::atomic<int> again{0};
+    millsim::testing::runOnRanks(3, [&](const millsim::core::RankGroup& ranks) {
+      CountingObjective counted(f);
+      calib::CalibrationOptions ro = options(method, 21);
+      ro.ranks = &ranks;
+      std::unique_ptr<calib::Journal> j;
+      if (ranks.rank() == 0) j = std::make_unique<calib::Journal>(path, f.signature(), std::vector<std::string>{});
+      calib::Calibrator(counted, ro).run(j.get());
+      again += counted.calls();
+    });
+    EXPECT_EQ(again.load(), 0) << method;
   }
 }
 

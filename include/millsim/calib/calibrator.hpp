@@ -4,8 +4,9 @@
 //   2. repeatedly: the proposer's next candidate(s) from all successful evaluations so far;
 //   3. stop when `patience` successive candidates after the initial ones brought no
 //      improvement (SSE not strictly below the best so far), or after `max_evals` evaluations.
-// With parallel = k, k candidates are evaluated at once on k threads (the initial design in
-// chunks of k, then batches of k from the proposer). Each finished evaluation goes to the
+// With parallel = k, k candidates are evaluated at once on k threads (the initial design at
+// once, then batches of k from the proposer); with R MPI ranks, batches of k R, each rank taking
+// every R-th candidate, the results gathered on every rank. Each finished evaluation goes to the
 // journal at once; on start the journal's rows are taken as done, so a resumed calibration
 // re-evaluates nothing (an initial candidate whose index is in the journal is skipped, the
 // proposals continue from the journal's data). With parallel = 1 and the same objective a
@@ -19,6 +20,7 @@
 #include "millsim/calib/objective.hpp"
 #include "millsim/calib/param_box.hpp"
 #include "millsim/calib/proposer.hpp"
+#include "millsim/core/rank_group.hpp"
 
 namespace millsim::calib {
 
@@ -28,7 +30,10 @@ struct CalibrationOptions {
   int initial = 6;            // space-filling initial candidates (paper: 6)
   int patience = 3;           // successive candidates without improvement that stop it (paper: 3)
   int max_evals = 40;         // evaluations in all, initial ones and journal rows included
-  int parallel = 1;           // candidates evaluated at once (threads)
+  int parallel = 1;           // candidates evaluated at once (threads), per rank
+  // MPI ranks (null: one process). Each rank evaluates its share of every batch (batches of
+  // parallel x ranks candidates); rank 0 alone should be given the journal.
+  const core::RankGroup* ranks = nullptr;
   std::uint64_t seed = 1;     // of the initial design
   SearchOptions search;       // proposal search (grid 101, exclusion 0.02 of the box)
 };

@@ -1,0 +1,27 @@
+#pragma once
+// The processes one job is spread over (MPI ranks under `mpirun -np N millsim ...`), as the
+// library sees them: independent simulations are dealt out by rank and their results gathered
+// back as strings (the callers serialise). The library itself has no MPI dependency: the CLI
+// provides the MPI implementation (apps/millsim/mpi_ranks.cpp) when built with MPI, and
+// everything works on one rank without it.
+#include <string>
+#include <vector>
+
+namespace millsim::core {
+
+class RankGroup {
+ public:
+  virtual ~RankGroup() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Collective: every rank passes its own string; every rank gets all of them, by rank.
+  virtual std::vector<std::string> allGather(const std::string& mine) const = 0;
+  // Collective: rank 0's `text` on every rank (what the other ranks pass is ignored).
+  virtual std::string broadcast(const std::string& text) const = 0;
+};
+
+// Work item k belongs to rank k mod size (round robin: neighbouring items, often of similar
+// cost, go to different ranks).
+inline bool ownsItem(const RankGroup* ranks, int k) { return !ranks || k % ranks->size() == ranks->rank(); }
+
+}  // namespace millsim::core

@@ -1,0 +1,215 @@
+#include "millsim/sim/sweep.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <thread>
+
+#include "millsim/core/error.hpp"
+#include "millsim/io/case_xml.hpp"
+
+namespace millsim::sim {
+
+namespace {
+
+// Every combination of the axes' values, the first axis slowest.
+std::vector<std::vector<std::string>> grid(const std::vector<SweepAxis>& axes) {
+  std::vector<std::vector<std::string>> combos{{}};
+  for (const SweepAxis& a : axes) {
+    std::vector<std::vector<std::string>> next;
+    for (const auto& c : combos)
+      for (const std::string& v : a.values) {
+        next.push_back(c);
+        next.back().push_back(v);
+      }
+    combos = std::move(next);
+  }
+  return combos;
+}
+
+std::string runDir(const std::string& out, int k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "run_%03d", k);
+  return (std::filesystem::path(out) / name).string();
+}
+
+SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, const std::vector<std::string>& values,
+                int k) {
+  SweepRow row;
+  row.index = k;
+  row.values = values;
+  row.out_dir = runDir(spec.run.out_dir, k);
+  RunOptions opt = spec.run;
+  opt.out_dir = row.out_dir;
+  opt.progress = false;
+  Simulation simulation(io::loadCaseFile(spec.case_path, sets), opt);
+  try {
+    simulation.run();
+  } catch (const core::SimulationError& e) {
+    // The run stopped (its outputs up to the failure stay in its folder); the sweep goes on.
+    row.error = e.what();
+  }
+  const RunSummary& s = simulation.summary();
+  row.status = row.error.empty() ? s.status : "failed";
+  row.angle_deg = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
+  row.power_W = s.power_W;
+  row.torque_Nm = s.torque_Nm;
+  row.simulated_s = s.simulated_time_s;
+  row.wall_s = s.wall_time_s;
+  row.steps = s.steps;
+  row.sph_excluded = s.sph_excluded;
+  return row;
+}
+
+// Rows between ranks. Numbers as JSON (nlohmann writes doubles to round trip); NaN has no JSON
+// form, so angles go as null when not measured.
+nlohmann::json toJson(const SweepRow& r) {
+  return {{"index", r.index},
+          {"values", r.values},
+          {"out_dir", r.out_dir},
+          {"status", r.status},
+          {"error", r.error},
+          {"angle", std::isfinite(r.angle_deg) ? nlohmann::json(r.angle_deg) : nlohmann::json()},
+          {"power", r.power_W},
+          {"torque", r.torque_Nm},
+          {"simulated", r.simulated_s},
+          {"wall", r.wall_s},
+          {"steps", r.steps},
+          {"excluded", r.sph_excluded}};
+}
+
+SweepRow fromJson(const nlohmann::json& j) {
+  SweepRow r;
+  r.index = j.at("index").get<int>();
+  r.values = j.at("values").get<std::vector<std::string>>();
+  r.out_dir = j.at("out_dir").get<std::string>();
+  r.status = j.at("status").get<std::string>();
+  r.error = j.at("error").get<std::string>();
+  r.angle_deg = j.at("angle").is_null() ? std::nan("") : j.at("angle").get<double>();
+  r.power_W = j.at("power").get<double>();
+  r.torque_Nm = j.at("torque").get<double>();
+  r.simulated_s = j.at("simulated").get<double>();
+  r.wall_s = j.at("wall").get<double>();
+  r.steps = j.at("steps").get<long long>();
+  r.sph_excluded = j.at("excluded").get<long long>();
+  return r;
+}
+
+}  // namespace
+
+std::vector<std::vector<std::string>> sweepSettings(const SweepSpec& spec) {
+  for (const SweepAxis& a : spec.axes) {
+    if (a.path.empty() || a.values.empty()) throw core::InputError("--vary " + a.path + ": give PATH=VALUE[,VALUE...]");
+    if (std::count_if(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& b) { return b.path == a.path; }) > 1)
+      throw core::InputError("--vary " + a.path + ": given twice");
+  }
+  std::vector<std::vector<std::string>> all;
+  for (const auto& values : grid(spec.axes)) {
+    std::vector<std::string> sets = spec.sets;
+    for (std::size_t i = 0; i < values.size(); ++i) sets.push_back(spec.axes[i].path + "=" + values[i]);
+    io::loadCaseFile(spec.case_path, sets);  // throws InputError naming the file and the field
+    all.push_back(std::move(sets));
+  }
+  return all;
+}
+
+std::vector<SweepRow> runSweep(const SweepSpec& spec, const core::RankGroup* ranks,
+                               const std::function<void(const SweepRow&)>& progress) {
+  if (spec.parallel < 1) throw core::InputError("--parallel: at least 1");
+  const auto settings = sweepSettings(spec);
+  const auto combos = grid(spec.axes);
+  if (ranks && ranks->size() < 2) ranks = nullptr;
+  std::vector<int> mine;
+  for (int k = 0; k < static_cast<int>(settings.size()); ++k)
+    if (core::ownsItem(ranks, k)) mine.push_back(k);
+
+  std::vector<SweepRow> done;
+  std::mutex mutex;
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  const auto worker = [&]() {
+    for (std::size_t i = next++; i < mine.size(); i = next++) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (failure) return;
+      }
+      try {
+        SweepRow row = runOne(spec, settings[mine[i]], combos[mine[i]], mine[i]);
+        std::lock_guard<std::mutex> lock(mutex);
+        if (progress) progress(row);
+        done.push_back(std::move(row));
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  };
+  const int threads = std::min<int>(spec.parallel, static_cast<int>(mine.size()));
+  if (threads <= 1) {
+    worker();
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+  }
+
+  if (ranks) {
+    // Every rank takes part in the gather even after an error, so none waits for ever.
+    std::string message;
+    if (failure) try {
+        std::rethrow_exception(failure);
+      } catch (const std::exception& e) {
+        message = e.what();
+      } catch (...) {
+        message = "unknown error";
+      }
+    nlohmann::json share = {{"rows", nlohmann::json::array()}, {"failure", message}};
+    for (const SweepRow& r : done) share["rows"].push_back(toJson(r));
+    done.clear();
+    std::string first_failure;
+    const std::vector<std::string> shares = ranks->allGather(share.dump());
+    for (std::size_t r = 0; r < shares.size(); ++r) {
+      const nlohmann::json j = nlohmann::json::parse(shares[r]);
+      for (const auto& row : j.at("rows")) done.push_back(fromJson(row));
+      const std::string f = j.at("failure").get<std::string>();
+      if (!f.empty() && first_failure.empty()) first_failure = "rank " + std::to_string(r) + ": " + f;
+    }
+    if (failure) std::rethrow_exception(failure);
+    if (!first_failure.empty()) throw std::runtime_error(first_failure);
+  } else if (failure) {
+    std::rethrow_exception(failure);
+  }
+  std::sort(done.begin(), done.end(), [](const SweepRow& a, const SweepRow& b) { return a.index < b.index; });
+  return done;
+}
+
+void writeSweepCsv(const std::vector<SweepRow>& rows, const std::vector<SweepAxis>& axes, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write");
+  // Plain CSV: a comma in a value or a message would shift the columns, so it becomes ';'.
+  auto cell = [](std::string v) {
+    std::replace(v.begin(), v.end(), ',', ';');
+    std::replace(v.begin(), v.end(), '\n', ' ');
+    return v;
+  };
+  out << "index";
+  for (const SweepAxis& a : axes) out << "," << cell(a.path);
+  out << ",status,angle_of_repose_deg,power_W,torque_Nm,simulated_s,steps,sph_excluded,wall_s,out_dir,error\n";
+  out.precision(10);
+  for (const SweepRow& r : rows) {
+    out << r.index;
+    for (const std::string& v : r.values) out << "," << cell(v);
+    out << "," << r.status << ",";
+    if (std::isfinite(r.angle_deg)) out << r.angle_deg;
+    out << "," << r.power_W << "," << r.torque_Nm << "," << r.simulated_s << "," << r.steps << "," << r.sph_excluded
+        << "," << r.wall_s << "," << cell(r.out_dir) << "," << cell(r.error) << "\n";
+  }
+}
+
+}  // namespace millsim::sim

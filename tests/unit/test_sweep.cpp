@@ -1,0 +1,93 @@
+// `millsim sweep` (src/sim/sweep.cpp): the grid's runs in order, the same results whether on one
+// process or spread over ranks (the MPI code path, on threads: tests/support/thread_ranks.hpp),
+// a run that goes unstable becomes a failed row while the others go on, bad input fails first.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "millsim/core/error.hpp"
+#include "millsim/sim/sweep.hpp"
+#include "support/thread_ranks.hpp"
+
+namespace millsim::sim {
+namespace {
+
+SweepSpec smallSweep(const std::string& out) {
+  SweepSpec spec;
+  spec.case_path = std::string(MILLSIM_SOURCE_DIR) + "/cases/minimal_drum.xml";
+  spec.sets = {"time.end=0.4", "output.fields_every=0"};
+  spec.axes = {{"dem.restitution", {"0.3", "0.6"}}, {"dem.friction", {"0.2", "0.5"}}};
+  spec.run.out_dir = out;
+  spec.run.backend = "omp";
+  spec.run.threads = 1;
+  return spec;
+}
+
+TEST(Sweep, GridInOrderWithTheFirstAxisSlowest) {
+  const auto sets = sweepSettings(smallSweep("unused"));
+  ASSERT_EQ(sets.size(), 4u);
+  EXPECT_EQ(sets[1].back(), "dem.friction=0.5");
+  EXPECT_EQ(sets[1][sets[1].size() - 2], "dem.restitution=0.3");
+  EXPECT_EQ(sets[2][sets[2].size() - 2], "dem.restitution=0.6");
+  EXPECT_EQ(sets[0][0], "time.end=0.4");  // the common settings first
+}
+
+TEST(Sweep, RanksGiveTheResultsOfOneProcess) {
+  const auto tmp = std::filesystem::temp_directory_path();
+  const auto serial = runSweep(smallSweep((tmp / "millsim_sweep_serial").string()));
+  ASSERT_EQ(serial.size(), 4u);
+  std::vector<std::vector<SweepRow>> per_rank(3);
+  millsim::testing::runOnRanks(3, [&](const core::RankGroup& ranks) {
+    per_rank[ranks.rank()] = runSweep(smallSweep((tmp / "millsim_sweep_ranks").string()), &ranks);
+  });
+  for (const auto& rows : per_rank) {
+    ASSERT_EQ(rows.size(), 4u);
+    for (std::size_t k = 0; k < 4; ++k) {
+      EXPECT_EQ(rows[k].index, static_cast<int>(k));
+      EXPECT_EQ(rows[k].values, serial[k].values);
+      EXPECT_EQ(rows[k].status, "ok");
+      // A deterministic simulation: bit-identical wherever it ran (JSON round-trips doubles).
+      EXPECT_EQ(rows[k].power_W, serial[k].power_W) << k;
+      EXPECT_EQ(rows[k].steps, serial[k].steps) << k;
+    }
+  }
+  // The settings reached the runs: restitution changes the power (0.3 -> 0.6 at mu = 0.2).
+  EXPECT_NE(serial[0].power_W, serial[2].power_W);
+  EXPECT_TRUE(std::filesystem::exists(tmp / "millsim_sweep_ranks" / "run_003" / "summary.json"));
+}
+
+TEST(Sweep, AnUnstableRunIsAFailedRowAndTheOthersGoOn) {
+  SweepSpec spec = smallSweep((std::filesystem::temp_directory_path() / "millsim_sweep_fail").string());
+  spec.sets.push_back("time.dt=fixed");
+  spec.axes = {{"time.dt_fixed", {"2e-3", "1e-5"}}};  // 2 ms: far past the contact time, balls escape
+  const auto rows = runSweep(spec);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].status, "failed");
+  EXPECT_NE(rows[0].error.find("escaped"), std::string::npos) << rows[0].error;
+  EXPECT_EQ(rows[1].status, "ok");
+  EXPECT_NEAR(rows[1].simulated_s, 0.4, 1e-6);
+  const std::string csv = spec.run.out_dir + "/sweep.csv";
+  writeSweepCsv(rows, spec.axes, csv);
+  std::ifstream in(csv);
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  EXPECT_EQ(header.rfind("index,time.dt_fixed,status,angle_of_repose_deg", 0), 0u);
+  EXPECT_EQ(first.rfind("0,2e-3,failed,", 0), 0u) << first;
+}
+
+TEST(Sweep, BadInputFailsBeforeAnythingRuns) {
+  SweepSpec spec = smallSweep("unused");
+  spec.axes = {{"dem.restitution", {"0.3", "-1"}}};
+  EXPECT_THROW(sweepSettings(spec), core::InputError);
+  spec.axes = {{"dem.no_such", {"1"}}};
+  EXPECT_THROW(runSweep(spec), core::InputError);
+  spec.axes = {{"dem.friction", {"0.2"}}, {"dem.friction", {"0.3"}}};
+  EXPECT_THROW(sweepSettings(spec), core::InputError);
+}
+
+}  // namespace
+}  // namespace millsim::sim
