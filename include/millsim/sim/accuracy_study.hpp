@@ -15,6 +15,12 @@
 //   4 s); error = |angle of repose - angle at t_c/200 (quick: t_c/100)| in degrees (the finest setting as the
 //   reference, as no analytic angle exists); a second charge seed shows the noise floor.
 //   Axes: time-step divisor, Young's modulus, precision, ball representation (sphere / DCDEM).
+// - wet_drum_angle, wet_drum_slurry: the small wet mill (cases/wet_drum_small.xml, 1.6 s), one
+//   run giving two rows (--only takes "wet_drum"): the balls' angle of repose (error in degrees)
+//   and the fitted slurry curve (error = RMS distance in mm between its curve and the
+//   reference's over the central half of the drum, |x| <= D/4), both against the finest dp
+//   (4 mm; quick: 7.5 mm); a second charge seed shows the noise floor. Axes: SPH spacing dp,
+//   ball representation (sphere / DCDEM).
 // --quick keeps each axis to its cheapest levels (CI smoke test).
 #include <string>
 #include <vector>
@@ -23,8 +29,9 @@ namespace millsim::sim {
 
 struct StudyRow {
   std::string problem, axis, setting;
-  double error = 0;  // relative (dam break, impact) or degrees (drum)
-  double value = 0;  // the measured quantity (drum: angle of repose, deg)
+  double error = 0;           // relative (dam break, impact) or degrees (drum)
+  double value = 0;           // the measured quantity (drum: angle of repose, deg; slurry: curve at x = 0, mm)
+  std::vector<double> curve;  // wet_drum_slurry: the fitted y = c0 + c1 x + c2 x^2 (mm); else empty
   double wall_s = 0;
   double simulated_s = 0;
   long long particles = 0, steps = 0;
@@ -34,11 +41,15 @@ struct StudyRow {
 // only: "" (everything), "PROBLEM" or "PROBLEM:AXIS" (e.g. "drum_300:representation").
 std::vector<StudyRow> runAccuracyStudy(bool quick, const std::string& source_dir, const std::string& only = "");
 
-// The drum's errors: |angle - the reference row's angle| (NaN without a reference row).
-void fillDrumErrors(std::vector<StudyRow>& rows);
+// The errors measured against a reference row of the same problem (drum_300, wet_drum_*):
+// |angle - the reference's angle|, or the slurry curves' RMS distance (NaN without a reference).
+void fillReferenceErrors(std::vector<StudyRow>& rows);
+
+// RMS distance (mm) between two slurry curves y = c0 + c1 x + c2 x^2 over |x| <= half_width_mm.
+double slurryCurveDistance(const std::vector<double>& a, const std::vector<double>& b, double half_width_mm);
 
 // Rows of an earlier study with fresh ones: a fresh row replaces the one with the same problem,
-// axis and setting, or joins its problem's rows; the drum's errors are recomputed.
+// axis and setting, or joins its problem's rows; the reference-based errors are recomputed.
 std::vector<StudyRow> mergeStudyRows(std::vector<StudyRow> base, const std::vector<StudyRow>& fresh);
 
 // OUT/accuracy_cost.csv and one Pareto plot per problem (OUT/pareto_<problem>.png).
