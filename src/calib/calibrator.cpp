@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <stdexcept>
-#include <thread>
 
 #include "millsim/calib/initial_design.hpp"
 #include "millsim/core/rank_group.hpp"
@@ -84,8 +83,7 @@ std::vector<Candidate> decodeCandidates(const std::string& text) {
   return cs;
 }
 
-// A rank's share of a batch: its evaluations, or the error that stopped it.
-std::string encodeEvaluations(const std::vector<Evaluation>& evs, const std::string& failure) {
+std::string encodeEvaluations(const std::vector<Evaluation>& evs) {
   nlohmann::json list = nlohmann::json::array();
   for (const Evaluation& ev : evs) {
     nlohmann::json angles = nlohmann::json::array();
@@ -97,13 +95,11 @@ std::string encodeEvaluations(const std::vector<Evaluation>& evs, const std::str
                     {"error", ev.error},
                     {"wall", bits(ev.wall_s)}});
   }
-  return nlohmann::json{{"evaluations", list}, {"failure", failure}}.dump();
+  return list.dump();
 }
-std::vector<Evaluation> decodeEvaluations(const std::string& text, std::string& failure) {
-  const nlohmann::json j = nlohmann::json::parse(text);
-  failure = j.at("failure").get<std::string>();
+std::vector<Evaluation> decodeEvaluations(const std::string& text) {
   std::vector<Evaluation> evs;
-  for (const auto& e : j.at("evaluations")) {
+  for (const auto& e : nlohmann::json::parse(text)) {
     Evaluation ev;
     ev.candidate = candidateFrom(e.at("c"));
     for (const auto& a : e.at("a")) ev.angles_deg.push_back(fromBits(a.get<std::uint64_t>()));
@@ -127,10 +123,7 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
   // its share of a batch, and all ranks gather all results, so their states stay identical.
   const core::RankGroup* ranks = o.ranks && o.ranks->size() > 1 ? o.ranks : nullptr;
   std::vector<Evaluation> loaded = journal ? journal->loaded() : std::vector<Evaluation>{};
-  if (ranks) {
-    std::string none;
-    loaded = decodeEvaluations(ranks->broadcast(encodeEvaluations(loaded, "")), none);
-  }
+  if (ranks) loaded = decodeEvaluations(ranks->broadcast(encodeEvaluations(loaded)));
   std::set<int> done;
   for (const Evaluation& ev : loaded)
     if (done.insert(ev.candidate.index).second) state.evaluations.push_back(ev);
@@ -179,39 +172,21 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
         }
       }
     };
-    const int threads = std::min<int>(o.parallel, static_cast<int>(mine.size()));
-    if (threads <= 1) {
-      worker();
-    } else {
-      std::vector<std::thread> pool;
-      for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-      for (auto& t : pool) t.join();
-    }
+    core::runWorkers(std::min<int>(o.parallel, static_cast<int>(mine.size())), worker);
     if (!ranks) {
       if (failure) std::rethrow_exception(failure);
       return;
     }
-    std::string message;
-    if (failure) try {
-        std::rethrow_exception(failure);
-      } catch (const std::exception& e) {
-        message = e.what();
-      } catch (...) {
-        message = "unknown error";
-      }
+    // The finished evaluations of every rank are recorded before a failure is thrown, as on one
+    // process: a resumed calibration does not run them again.
+    const core::GatheredShares shares = core::gatherShares(*ranks, encodeEvaluations(finished), failure);
     std::vector<Evaluation> all;
-    std::string first_failure;
-    const std::vector<std::string> shares = ranks->allGather(encodeEvaluations(finished, message));
-    for (std::size_t r = 0; r < shares.size(); ++r) {
-      std::string f;
-      for (Evaluation& ev : decodeEvaluations(shares[r], f)) all.push_back(std::move(ev));
-      if (!f.empty() && first_failure.empty()) first_failure = "rank " + std::to_string(r) + ": " + f;
-    }
+    for (const std::string& share : shares.payloads)
+      for (Evaluation& ev : decodeEvaluations(share)) all.push_back(std::move(ev));
     std::sort(all.begin(), all.end(),
               [](const Evaluation& a, const Evaluation& b) { return a.candidate.index < b.candidate.index; });
     for (const Evaluation& ev : all) record(ev);
-    if (failure) std::rethrow_exception(failure);
-    if (!first_failure.empty()) throw std::runtime_error(first_failure);
+    core::throwIfAnyRankFailed(shares, failure);
   };
   // On several ranks rank 0's batch is the batch (a proposer's floating-point result could
   // differ by a bit between machines; the decision must not).

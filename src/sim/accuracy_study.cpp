@@ -121,6 +121,30 @@ StudyRow hertzImpact(const std::string& axis, const std::string& setting, double
   row.error = std::abs(e_measured - e) / e;
   return row;
 }
+// One run of a mill case (one thread, no files) as a study row whose value is the angle of
+// repose; `summary` gets the run's summary for what else the caller takes from it.
+StudyRow angleRow(const std::string& case_path, const std::vector<std::string>& sets, const std::string& precision,
+                  const std::string& problem, const std::string& axis, const std::string& setting,
+                  RunSummary& summary) {
+  RunOptions opt;
+  opt.write_outputs = false;
+  opt.backend = "omp";
+  opt.precision = precision;
+  opt.threads = 1;
+  Simulation simulation(io::loadCaseFile(case_path, sets), opt);
+  summary = simulation.run();
+  StudyRow r;
+  r.problem = problem;
+  r.axis = axis;
+  r.setting = setting;
+  r.wall_s = summary.wall_time_s;
+  r.simulated_s = summary.simulated_time_s;
+  r.particles = static_cast<long long>(summary.particles + summary.sph_particles);
+  r.steps = summary.steps;
+  r.value = summary.angle_valid ? summary.angle_of_repose_deg : std::nan("");
+  return r;
+}
+
 // The shipped 300 mm mill (balls only) with overrides; `value` = its dynamic angle of repose. The
 // error (difference to the finest setting's angle) is filled in once every run is done.
 StudyRow drumAngle(const std::string& source_dir, bool quick, const std::string& axis, const std::string& setting,
@@ -131,24 +155,8 @@ StudyRow drumAngle(const std::string& source_dir, bool quick, const std::string&
     for (const char* s : {"time.end=4", "compaction.duration=1", "drum.start_time=1", "angle_of_repose.start_time=2.5",
                           "angle_of_repose.frames=30"})
       all.push_back(s);
-  const scene::Scene sc = io::loadCaseFile(source_dir + "/cases/ball_mill_300_balls.xml", all);
-  RunOptions opt;
-  opt.write_outputs = false;
-  opt.backend = "omp";
-  opt.precision = precision;
-  opt.threads = 1;
-  Simulation simulation(sc, opt);
-  const RunSummary& s = simulation.run();
-  StudyRow r;
-  r.problem = "drum_300";
-  r.axis = axis;
-  r.setting = setting;
-  r.wall_s = s.wall_time_s;
-  r.simulated_s = s.simulated_time_s;
-  r.particles = static_cast<long long>(s.particles);
-  r.steps = s.steps;
-  r.value = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
-  return r;
+  RunSummary s;
+  return angleRow(source_dir + "/cases/ball_mill_300_balls.xml", all, precision, "drum_300", axis, setting, s);
 }
 
 // The small wet mill with overrides (cases/wet_drum_small.xml, 1.6 s): one run, two rows, the
@@ -157,22 +165,9 @@ std::vector<StudyRow> wetDrum(const std::string& source_dir, const std::string& 
                               const std::vector<std::string>& sets) {
   std::vector<std::string> all = sets;
   for (const char* s : {"output.fields_every=0", "output.checkpoint_every=0"}) all.push_back(s);
-  const scene::Scene sc = io::loadCaseFile(source_dir + "/cases/wet_drum_small.xml", all);
-  RunOptions opt;
-  opt.write_outputs = false;
-  opt.backend = "omp";
-  opt.threads = 1;
-  Simulation simulation(sc, opt);
-  const RunSummary& s = simulation.run();
-  StudyRow angle;
-  angle.problem = "wet_drum_angle";
-  angle.axis = axis;
-  angle.setting = setting;
-  angle.wall_s = s.wall_time_s;
-  angle.simulated_s = s.simulated_time_s;
-  angle.particles = static_cast<long long>(s.particles + s.sph_particles);
-  angle.steps = s.steps;
-  angle.value = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
+  RunSummary s;
+  const StudyRow angle =
+      angleRow(source_dir + "/cases/wet_drum_small.xml", all, "double", "wet_drum_angle", axis, setting, s);
   StudyRow slurry = angle;
   slurry.problem = "wet_drum_slurry";
   slurry.value = s.slurry_valid ? s.slurry_coef[0] : std::nan("");

@@ -9,7 +9,6 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
-#include <thread>
 
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
@@ -150,38 +149,15 @@ std::vector<SweepRow> runSweep(const SweepSpec& spec, const core::RankGroup* ran
       }
     }
   };
-  const int threads = std::min<int>(spec.parallel, static_cast<int>(mine.size()));
-  if (threads <= 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-  }
-
+  core::runWorkers(std::min<int>(spec.parallel, static_cast<int>(mine.size())), worker);
   if (ranks) {
-    // Every rank takes part in the gather even after an error, so none waits for ever.
-    std::string message;
-    if (failure) try {
-        std::rethrow_exception(failure);
-      } catch (const std::exception& e) {
-        message = e.what();
-      } catch (...) {
-        message = "unknown error";
-      }
-    nlohmann::json share = {{"rows", nlohmann::json::array()}, {"failure", message}};
-    for (const SweepRow& r : done) share["rows"].push_back(toJson(r));
+    nlohmann::json share = nlohmann::json::array();
+    for (const SweepRow& r : done) share.push_back(toJson(r));
     done.clear();
-    std::string first_failure;
-    const std::vector<std::string> shares = ranks->allGather(share.dump());
-    for (std::size_t r = 0; r < shares.size(); ++r) {
-      const nlohmann::json j = nlohmann::json::parse(shares[r]);
-      for (const auto& row : j.at("rows")) done.push_back(fromJson(row));
-      const std::string f = j.at("failure").get<std::string>();
-      if (!f.empty() && first_failure.empty()) first_failure = "rank " + std::to_string(r) + ": " + f;
-    }
-    if (failure) std::rethrow_exception(failure);
-    if (!first_failure.empty()) throw std::runtime_error(first_failure);
+    const core::GatheredShares shares = core::gatherShares(*ranks, share.dump(), failure);
+    for (const std::string& s : shares.payloads)
+      for (const auto& row : nlohmann::json::parse(s)) done.push_back(fromJson(row));
+    core::throwIfAnyRankFailed(shares, failure);
   } else if (failure) {
     std::rethrow_exception(failure);
   }

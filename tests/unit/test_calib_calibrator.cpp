@@ -235,6 +235,34 @@ TEST(Ranks, ThreeRanksTakeTheStepsOfOneProcessWithThreeThreads) {
   }
 }
 
+// An error on one rank (here rank 1's first evaluation throws) stops every rank, after the
+// evaluations the others finished are in rank 0's journal.
+TEST(Ranks, AnErrorOnOneRankStopsAllAndKeepsTheOthersResults) {
+  const auto f = calib::smoothBowl(kE0, kMu0);
+  const fs::path dir = freshDir("ranks_failure");
+  const std::string path = (dir / "evaluations.csv").string();
+  std::atomic<int> threw{0};
+  millsim::testing::runOnRanks(3, [&](const millsim::core::RankGroup& ranks) {
+    CountingObjective counted(f, ranks.rank() == 1 ? 1 : -1);
+    calib::CalibrationOptions ro = options("bo", 21);
+    ro.ranks = &ranks;
+    std::unique_ptr<calib::Journal> journal;
+    if (ranks.rank() == 0) journal = std::make_unique<calib::Journal>(path, f.signature(), std::vector<std::string>{});
+    try {
+      calib::Calibrator(counted, ro).run(journal.get());
+    } catch (const std::runtime_error& e) {
+      ++threw;
+      if (ranks.rank() != 1) {
+        EXPECT_NE(std::string(e.what()).find("rank 1: interrupted"), std::string::npos);
+      }
+    }
+  });
+  EXPECT_EQ(threw.load(), 3);
+  // The initial design's 6 candidates: ranks 0 and 2 finished theirs (2 each), rank 1 none.
+  calib::Journal journal(path, f.signature(), {});
+  EXPECT_EQ(journal.loaded().size(), 4u);
+}
+
 TEST(Resume, AnInterruptedCalibrationRerunsNothing) {
   for (const std::string method : {"paper", "bo"}) {
     const auto f = calib::curvedValley(kE0, kMu0);

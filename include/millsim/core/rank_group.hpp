@@ -4,6 +4,8 @@
 // back as strings (the callers serialise). The library itself has no MPI dependency: the CLI
 // provides the MPI implementation (apps/millsim/mpi_ranks.cpp) when built with MPI, and
 // everything works on one rank without it.
+#include <exception>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,5 +25,20 @@ class RankGroup {
 // Work item k belongs to rank k mod size (round robin: neighbouring items, often of similar
 // cost, go to different ranks).
 inline bool ownsItem(const RankGroup* ranks, int k) { return !ranks || k % ranks->size() == ranks->rank(); }
+
+// Runs `worker` on `threads` threads (on the calling thread when threads <= 1) and joins them.
+void runWorkers(int threads, const std::function<void()>& worker);
+
+// Collective: every rank's `payload` (its results of a batch), on every rank, by rank. Every
+// rank takes part even when its own work failed (`failure` set), so none waits for ever.
+struct GatheredShares {
+  std::vector<std::string> payloads;
+  std::string failure;  // "rank R: message" of the first rank that failed; empty when none did
+};
+GatheredShares gatherShares(const RankGroup& ranks, const std::string& payload, std::exception_ptr failure);
+
+// After the gathered results are stored: the failing rank rethrows its own exception, every
+// other rank a std::runtime_error with the first failure's message; nothing when none failed.
+void throwIfAnyRankFailed(const GatheredShares& shares, std::exception_ptr own_failure);
 
 }  // namespace millsim::core
