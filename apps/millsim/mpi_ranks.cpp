@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "millsim/backend/info.hpp"
+
 #ifdef MILLSIM_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -73,6 +75,13 @@ MpiSession::MpiSession(int* argc, char*** argv) {
   check(MPI_Init(argc, argv), "MPI_Init");
   m_initialised = true;
   m_ranks = std::make_unique<MpiRanks>();
+  // One GPU per rank of a node: the launcher's node-local rank picks it (round robin when a
+  // node has more ranks than GPUs). Without CUDA or a GPU this does nothing.
+  for (const char* v : {"OMPI_COMM_WORLD_LOCAL_RANK", "MPI_LOCALRANKID", "SLURM_LOCALID"})
+    if (const char* local = std::getenv(v)) {
+      backend::selectCudaDevice(std::atoi(local));
+      break;
+    }
 #else
   (void)argc;
   (void)argv;

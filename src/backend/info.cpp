@@ -10,6 +10,7 @@ int ompMaxThreads() { return omp_get_max_threads(); }
 bool cudaCompiled() { return false; }
 int cudaDevices() { return 0; }
 std::string cudaDeviceName() { return ""; }
+bool selectCudaDevice(int) { return false; }
 #endif
 
 }  // namespace millsim::backend

@@ -7,6 +7,9 @@ namespace millsim::backend {
 bool cudaCompiled();
 int cudaDevices();           // 0 without a driver or a GPU
 std::string cudaDeviceName();  // "" when none
+// Makes GPU `index mod cudaDevices()` the calling thread's device (MPI: one GPU per rank of a
+// node). False, and nothing changes, without CUDA or a GPU.
+bool selectCudaDevice(int index);
 int ompMaxThreads();
 
 }  // namespace millsim::backend

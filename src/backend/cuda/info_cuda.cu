@@ -12,6 +12,12 @@ int cudaDevices() {
   return count;
 }
 
+bool selectCudaDevice(int index) {
+  const int count = cudaDevices();
+  if (count == 0 || index < 0) return false;
+  return cudaSetDevice(index % count) == cudaSuccess;
+}
+
 std::string cudaDeviceName() {
   if (cudaDevices() == 0) return "";
   cudaDeviceProp prop{};
