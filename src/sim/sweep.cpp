@@ -59,6 +59,7 @@ SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, con
   row.angle_deg = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
   row.power_W = s.power_W;
   row.torque_Nm = s.torque_Nm;
+  row.budget_residual = s.energy_work_in != 0 ? s.energy_residual / s.energy_work_in : std::nan("");
   row.simulated_s = s.simulated_time_s;
   row.wall_s = s.wall_time_s;
   row.steps = s.steps;
@@ -77,6 +78,7 @@ nlohmann::json toJson(const SweepRow& r) {
           {"angle", std::isfinite(r.angle_deg) ? nlohmann::json(r.angle_deg) : nlohmann::json()},
           {"power", r.power_W},
           {"torque", r.torque_Nm},
+          {"budget", std::isfinite(r.budget_residual) ? nlohmann::json(r.budget_residual) : nlohmann::json()},
           {"simulated", r.simulated_s},
           {"wall", r.wall_s},
           {"steps", r.steps},
@@ -93,6 +95,7 @@ SweepRow fromJson(const nlohmann::json& j) {
   r.angle_deg = j.at("angle").is_null() ? std::nan("") : j.at("angle").get<double>();
   r.power_W = j.at("power").get<double>();
   r.torque_Nm = j.at("torque").get<double>();
+  r.budget_residual = j.at("budget").is_null() ? std::nan("") : j.at("budget").get<double>();
   r.simulated_s = j.at("simulated").get<double>();
   r.wall_s = j.at("wall").get<double>();
   r.steps = j.at("steps").get<long long>();
@@ -176,15 +179,18 @@ void writeSweepCsv(const std::vector<SweepRow>& rows, const std::vector<SweepAxi
   };
   out << "index";
   for (const SweepAxis& a : axes) out << "," << cell(a.path);
-  out << ",status,angle_of_repose_deg,power_W,torque_Nm,simulated_s,steps,sph_excluded,wall_s,out_dir,error\n";
+  out << ",status,angle_of_repose_deg,power_W,torque_Nm,budget_residual,simulated_s,steps,sph_excluded,wall_s,out_dir,"
+         "error\n";
   out.precision(10);
   for (const SweepRow& r : rows) {
     out << r.index;
     for (const std::string& v : r.values) out << "," << cell(v);
     out << "," << r.status << ",";
     if (std::isfinite(r.angle_deg)) out << r.angle_deg;
-    out << "," << r.power_W << "," << r.torque_Nm << "," << r.simulated_s << "," << r.steps << "," << r.sph_excluded
-        << "," << r.wall_s << "," << cell(r.out_dir) << "," << cell(r.error) << "\n";
+    out << "," << r.power_W << "," << r.torque_Nm << ",";
+    if (std::isfinite(r.budget_residual)) out << r.budget_residual;
+    out << "," << r.simulated_s << "," << r.steps << "," << r.sph_excluded << "," << r.wall_s << "," << cell(r.out_dir)
+        << "," << cell(r.error) << "\n";
   }
 }
 

@@ -24,14 +24,14 @@ std::string capture(const std::string& cmd) {
   return out;
 }
 
-// The columns of sweep.csv that a run's physics sets (index .. sph_excluded), per row.
+// The columns of sweep.csv that a run's physics sets (index .. steps), per row.
 std::vector<std::string> physicsColumns(const std::filesystem::path& csv) {
   std::ifstream in(csv);
   std::vector<std::string> rows;
   for (std::string line; std::getline(in, line);) {
     std::stringstream ss(line);
     std::string cell, kept;
-    for (int c = 0; c < 9 && std::getline(ss, cell, ','); ++c) kept += cell + ",";
+    for (int c = 0; c < 10 && std::getline(ss, cell, ','); ++c) kept += cell + ",";
     rows.push_back(kept);
   }
   return rows;

@@ -33,6 +33,7 @@ struct SweepRow {
   std::string error;
   double angle_deg = 0;  // NaN when not measured
   double power_W = 0, torque_Nm = 0, simulated_s = 0, wall_s = 0;
+  double budget_residual = 0;  // energy budget residual / work put in (NaN when no work went in)
   long long steps = 0, sph_excluded = 0;
 };
 
@@ -46,7 +47,7 @@ std::vector<SweepRow> runSweep(const SweepSpec& spec, const core::RankGroup* ran
                                const std::function<void(const SweepRow&)>& progress = {});
 
 // OUT/sweep.csv: index, one column per axis, status, angle_of_repose_deg, power_W, torque_Nm,
-// simulated_s, steps, sph_excluded, wall_s, out_dir, error.
+// budget_residual (of the work in), simulated_s, steps, sph_excluded, wall_s, out_dir, error.
 void writeSweepCsv(const std::vector<SweepRow>& rows, const std::vector<SweepAxis>& axes, const std::string& path);
 
 }  // namespace millsim::sim
