@@ -102,6 +102,10 @@ int sweepCommand(const SweepArgs& a) {
     row["status"] = r.status;
     row["angle_of_repose_deg"] = std::isfinite(r.angle_deg) ? nlohmann::ordered_json(r.angle_deg) : nullptr;
     row["power_W"] = r.power_W;
+    row["torque_Nm"] = r.torque_Nm;
+    row["budget_residual"] = std::isfinite(r.budget_residual) ? nlohmann::ordered_json(r.budget_residual) : nullptr;
+    row["steps"] = r.steps;
+    row["sph_excluded"] = r.sph_excluded;
     row["wall_s"] = r.wall_s;
     row["out_dir"] = r.out_dir;
     if (!r.error.empty()) row["error"] = r.error;
