@@ -21,6 +21,26 @@ struct GatherRows {
   }
 };
 
+// One column (slot) of a table with `width` entries per particle, renumbered in two passes
+// through an n-sized scratch (so a per-particle table of kWallSlots entries needs no scratch of
+// its own size): GatherSlot reads column `slot` in the new order, PutSlot writes it back.
+template <class U>
+struct GatherSlot {
+  const U* table;
+  U* column;
+  const int* order;
+  int width, slot;
+  MILLSIM_HD void operator()(int i) const { column[i] = table[order[i] * width + slot]; }
+};
+
+template <class U>
+struct PutSlot {
+  const U* column;
+  U* table;
+  int width, slot;
+  MILLSIM_HD void operator()(int i) const { table[i * width + slot] = column[i]; }
+};
+
 // Contact springs before the rebuild, as a compact table per old particle o: entries
 // start[o] .. start[o + 1] of partner (old index, always > o: a pair lives with its
 // lower-numbered side) and spring seen from o. This is the old half neighbour list itself, or
