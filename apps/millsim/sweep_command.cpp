@@ -1,6 +1,7 @@
 // `millsim sweep`: options, the grid from --vary, progress lines and OUT/sweep.csv + sweep.json.
 #include "sweep_command.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -79,11 +80,18 @@ int sweepCommand(const SweepArgs& a) {
     std::fprintf(stderr, "sweep: %zu runs of %s, %d rank(s) x %d at once, out %s\n", n_runs, a.case_path.c_str(),
                  n_ranks, a.parallel, a.out.c_str());
   const int rank = mpi.ranks() ? mpi.ranks()->rank() : 0;
+  // This rank's share of the runs, for the progress count and the ETA (runs k = rank mod ranks).
+  const int share = static_cast<int>((n_runs + n_ranks - 1 - rank) / n_ranks);
+  int finished = 0;  // progress() is called under the sweep's lock: one call at a time
+  const auto t0 = std::chrono::steady_clock::now();
   const auto progress = [&](const sim::SweepRow& r) {
+    ++finished;
     if (a.quiet) return;
     std::string values;
     for (std::size_t i = 0; i < r.values.size(); ++i) values += " " + spec.axes[i].path + "=" + r.values[i];
-    std::fprintf(stderr, "sweep [rank %d] run %d:%s -> %s", rank, r.index, values.c_str(), r.status.c_str());
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "sweep [rank %d, %d/%d, ETA %.0f s] run %d:%s -> %s", rank, finished, share,
+                 elapsed / finished * (share - finished), r.index, values.c_str(), r.status.c_str());
     if (r.status == "ok" && std::isfinite(r.angle_deg)) std::fprintf(stderr, ", angle %.2f deg", r.angle_deg);
     if (r.status == "ok") std::fprintf(stderr, ", power %.4g W, %.1f s\n", r.power_W, r.wall_s);
     if (r.status != "ok") std::fprintf(stderr, ": %s\n", r.error.c_str());
