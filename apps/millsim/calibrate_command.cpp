@@ -20,7 +20,6 @@
 #include "millsim/core/error.hpp"
 #include "millsim/vision/video_angle.hpp"
 #include "mpi_ranks.hpp"
-#include "mpi_ranks.hpp"
 
 namespace millsim::cli {
 
@@ -65,11 +64,6 @@ std::pair<double, double> parseRange(const std::string& s, const std::string& op
     throw InputError(option + ": '" + s + "' leaves [" + std::to_string(lo_bound) + ", " + std::to_string(hi_bound) +
                      "]");
   return {v[0], v[1]};
-}
-
-std::string resolvedBackend(const std::string& backend) {
-  if (backend != "auto") return backend;
-  return backend::cudaCompiled() && backend::cudaDevices() > 0 ? "cuda" : "omp";
 }
 
 // Measured angles from recordings, through the vision module (balls mode; the outline is the
@@ -160,8 +154,11 @@ int calibrateCommand(const CalibrateArgs& a) {
   if (a.parallel < 1) throw InputError("--parallel: at least 1");
   if (a.threads < 0) throw InputError("--threads: 0 (all) or more");
   if (a.backend == "cuda" && !backend::cudaCompiled()) throw InputError("--backend cuda: this build has no CUDA");
-  if (a.backend == "cuda" && a.parallel > 1)
-    throw InputError("--backend cuda with --parallel > 1: one GPU runs one simulation at a time; use --parallel 1");
+  // `auto` with a GPU present is cuda too: worker threads would all land on one GPU.
+  if (backend::resolvedBackend(a.backend) == "cuda" && a.parallel > 1)
+    throw InputError("--backend " + a.backend +
+                     " (cuda) with --parallel > 1: one GPU runs one simulation at a time; use --parallel 1 "
+                     "(and mpirun with one rank per GPU for more)");
 
   calib::SimulationObjectiveConfig config;
   config.labels = labels;
@@ -264,7 +261,7 @@ int calibrateCommand(const CalibrateArgs& a) {
   j["stop_reason"] = r.stop_reason;
   j["wall_time_s"] = r.wall_s;
   j["simulation_wall_time_s_all_evaluations"] = sim_wall;
-  j["backend"] = resolvedBackend(a.backend);
+  j["backend"] = backend::resolvedBackend(a.backend);
   j["precision"] = a.precision;
   j["threads_per_run"] = a.threads;
   j["parallel"] = a.parallel;

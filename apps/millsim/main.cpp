@@ -428,6 +428,13 @@ int runMain(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   try {
+    // Under mpirun only calibrate and sweep share out work; anything else (but `info`, which
+    // shows the ranks) would run N times over.
+    const auto* ranks = millsim::cli::mpiSession().ranks();
+    if (ranks && ranks->size() > 1 && !calibrate->parsed() && !sweep->parsed() && !info->parsed())
+      throw InputError("started on " + std::to_string(ranks->size()) +
+                       " MPI ranks: only `calibrate` and `sweep` spread their runs over ranks; run this command as "
+                       "one process");
     if (run->parsed()) {
       opt.progress = !quiet && isatty(STDERR_FILENO);
       return runCommand(case_path, sets, opt);

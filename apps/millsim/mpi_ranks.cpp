@@ -1,5 +1,6 @@
 #include "mpi_ranks.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -72,7 +73,9 @@ class MpiRanks final : public core::RankGroup {
 MpiSession::MpiSession(int* argc, char*** argv) {
 #ifdef MILLSIM_HAVE_MPI
   if (!launchedByMpi()) return;
-  check(MPI_Init(argc, argv), "MPI_Init");
+  // Only the main thread calls MPI; worker threads (--parallel) and OpenMP run simulations.
+  int provided = 0;
+  check(MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
   m_initialised = true;
   m_ranks = std::make_unique<MpiRanks>();
   // One GPU per rank of a node: the launcher's node-local rank picks it (round robin when a
@@ -85,6 +88,14 @@ MpiSession::MpiSession(int* argc, char*** argv) {
 #else
   (void)argc;
   (void)argv;
+  // Started by mpirun without MPI in the build: every process would run the whole command.
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(v)) {
+      std::fprintf(stderr,
+                   "millsim: warning: started by an MPI launcher, but this build has no MPI (MILLSIM_MPI): "
+                   "each process runs the whole command\n");
+      break;
+    }
 #endif
 }
 

@@ -9,7 +9,9 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
+#include "millsim/io/fields_writer.hpp"
 #include "millsim/sim/sweep.hpp"
 #include "mpi_ranks.hpp"
 
@@ -62,8 +64,17 @@ CLI::App* addSweepCommand(CLI::App& app, SweepArgs& a) {
 
 int sweepCommand(const SweepArgs& a) {
   if (a.threads < 0) throw core::InputError("--threads: 0 (all) or more");
-  if (a.backend == "cuda" && a.parallel > 1)
-    throw core::InputError("--backend cuda with --parallel > 1: one GPU runs one simulation at a time");
+  if (a.parallel < 1) throw core::InputError("--parallel: at least 1");
+  if (a.backend == "cuda" && !backend::cudaCompiled()) throw core::InputError("--backend cuda: this build has no CUDA");
+  // `auto` with a GPU present is cuda too: worker threads would all land on one GPU.
+  if (backend::resolvedBackend(a.backend) == "cuda" && a.parallel > 1)
+    throw core::InputError("--backend " + a.backend +
+                           " (cuda) with --parallel > 1: one GPU runs one simulation at a time; use --parallel 1 "
+                           "(and mpirun with one rank per GPU for more)");
+  // Several runs writing fields and checkpoints at once need a thread-safe HDF5.
+  if (a.parallel > 1 && !io::hdf5ThreadSafe())
+    throw core::InputError("--parallel " + std::to_string(a.parallel) +
+                           ": the HDF5 library of this build is not thread-safe; use --parallel 1 (or mpirun)");
   sim::SweepSpec spec;
   spec.case_path = a.case_path;
   spec.sets = a.sets;

@@ -6,6 +6,11 @@ namespace millsim::backend {
 
 int ompMaxThreads() { return omp_get_max_threads(); }
 
+std::string resolvedBackend(const std::string& backend) {
+  if (backend != "auto") return backend;
+  return cudaCompiled() && cudaDevices() > 0 ? "cuda" : "omp";
+}
+
 #if !defined(MILLSIM_HAVE_CUDA)
 bool cudaCompiled() { return false; }
 int cudaDevices() { return 0; }

@@ -27,7 +27,8 @@ GatheredShares gatherShares(const RankGroup& ranks, const std::string& payload, 
     }
   GatheredShares out;
   const std::vector<std::string> shares =
-      ranks.allGather(nlohmann::json{{"payload", payload}, {"failure", message}}.dump());
+      ranks.allGather(nlohmann::json{{"payload", payload}, {"failure", message}}.dump(
+          -1, ' ', false, nlohmann::json::error_handler_t::replace));  // a message need not be UTF-8
   for (std::size_t r = 0; r < shares.size(); ++r) {
     const nlohmann::json j = nlohmann::json::parse(shares[r]);
     out.payloads.push_back(j.at("payload").get<std::string>());

@@ -95,7 +95,7 @@ std::string encodeEvaluations(const std::vector<Evaluation>& evs) {
                     {"error", ev.error},
                     {"wall", bits(ev.wall_s)}});
   }
-  return list.dump();
+  return list.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // error texts need not be UTF-8
 }
 std::vector<Evaluation> decodeEvaluations(const std::string& text) {
   std::vector<Evaluation> evs;
@@ -223,7 +223,10 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
       avoid.push_back(o.box.toUnit(ev.candidate.e, ev.candidate.mu));
     }
     const int k = std::min(batch_size, o.max_evals - total);
-    const std::vector<Point2> proposals = m_proposer->propose(data(state.evaluations), avoid, k);
+    // On several ranks only rank 0 proposes (its batch is broadcast below): the surrogate's fit
+    // could fail on one machine alone, and the others would only repeat its work.
+    std::vector<Point2> proposals;
+    if (!ranks || ranks->rank() == 0) proposals = m_proposer->propose(data(state.evaluations), avoid, k);
     std::vector<Candidate> batch;
     for (const Point2& u : proposals) {
       const Point2 p = o.box.fromUnit(u);

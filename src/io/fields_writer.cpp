@@ -506,4 +506,9 @@ CheckpointData readCheckpoint(const fs::path& path) {
   return data;
 }
 
+bool hdf5ThreadSafe() {
+  hbool_t safe = 0;
+  return H5is_library_threadsafe(&safe) >= 0 && safe;
+}
+
 }  // namespace millsim::io

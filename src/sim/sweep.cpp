@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -47,14 +48,19 @@ SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, con
   RunOptions opt = spec.run;
   opt.out_dir = row.out_dir;
   opt.progress = false;
-  Simulation simulation(io::loadCaseFile(spec.case_path, sets), opt);
+  // Whatever stops one run (instability, a charge that does not fit, an I/O error) is that run's
+  // row; the sweep goes on. Its outputs up to the failure stay in its folder.
+  std::unique_ptr<Simulation> simulation;
   try {
-    simulation.run();
-  } catch (const core::SimulationError& e) {
-    // The run stopped (its outputs up to the failure stay in its folder); the sweep goes on.
+    simulation = std::make_unique<Simulation>(io::loadCaseFile(spec.case_path, sets), opt);
+    simulation->run();
+  } catch (const std::exception& e) {
     row.error = e.what();
+    row.status = "failed";
+    row.angle_deg = row.budget_residual = std::nan("");
+    if (!simulation) return row;
   }
-  const RunSummary& s = simulation.summary();
+  const RunSummary& s = simulation->summary();
   row.status = row.error.empty() ? s.status : "failed";
   row.angle_deg = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
   row.power_W = s.power_W;
@@ -69,18 +75,22 @@ SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, con
 
 // Rows between ranks. Numbers as JSON (nlohmann writes doubles to round trip); NaN has no JSON
 // form, so angles go as null when not measured.
+// NaN and inf have no JSON form: they travel as null and come back as NaN.
+nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+double number(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+
 nlohmann::json toJson(const SweepRow& r) {
   return {{"index", r.index},
           {"values", r.values},
           {"out_dir", r.out_dir},
           {"status", r.status},
           {"error", r.error},
-          {"angle", std::isfinite(r.angle_deg) ? nlohmann::json(r.angle_deg) : nlohmann::json()},
-          {"power", r.power_W},
-          {"torque", r.torque_Nm},
-          {"budget", std::isfinite(r.budget_residual) ? nlohmann::json(r.budget_residual) : nlohmann::json()},
-          {"simulated", r.simulated_s},
-          {"wall", r.wall_s},
+          {"angle", number(r.angle_deg)},
+          {"power", number(r.power_W)},
+          {"torque", number(r.torque_Nm)},
+          {"budget", number(r.budget_residual)},
+          {"simulated", number(r.simulated_s)},
+          {"wall", number(r.wall_s)},
           {"steps", r.steps},
           {"excluded", r.sph_excluded}};
 }
@@ -92,12 +102,12 @@ SweepRow fromJson(const nlohmann::json& j) {
   r.out_dir = j.at("out_dir").get<std::string>();
   r.status = j.at("status").get<std::string>();
   r.error = j.at("error").get<std::string>();
-  r.angle_deg = j.at("angle").is_null() ? std::nan("") : j.at("angle").get<double>();
-  r.power_W = j.at("power").get<double>();
-  r.torque_Nm = j.at("torque").get<double>();
-  r.budget_residual = j.at("budget").is_null() ? std::nan("") : j.at("budget").get<double>();
-  r.simulated_s = j.at("simulated").get<double>();
-  r.wall_s = j.at("wall").get<double>();
+  r.angle_deg = number(j.at("angle"));
+  r.power_W = number(j.at("power"));
+  r.torque_Nm = number(j.at("torque"));
+  r.budget_residual = number(j.at("budget"));
+  r.simulated_s = number(j.at("simulated"));
+  r.wall_s = number(j.at("wall"));
   r.steps = j.at("steps").get<long long>();
   r.sph_excluded = j.at("excluded").get<long long>();
   return r;
@@ -157,7 +167,8 @@ std::vector<SweepRow> runSweep(const SweepSpec& spec, const core::RankGroup* ran
     nlohmann::json share = nlohmann::json::array();
     for (const SweepRow& r : done) share.push_back(toJson(r));
     done.clear();
-    const core::GatheredShares shares = core::gatherShares(*ranks, share.dump(), failure);
+    const core::GatheredShares shares =
+        core::gatherShares(*ranks, share.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), failure);
     for (const std::string& s : shares.payloads)
       for (const auto& row : nlohmann::json::parse(s)) done.push_back(fromJson(row));
     core::throwIfAnyRankFailed(shares, failure);

@@ -102,13 +102,15 @@ struct SphInteraction {
       const T rho_b = p.rho[b];
       const T vol_b = mass / rho_b;
       drho += rho_a * vol_b * core::dot(v_ab, grad);
-      const T vr = kernel.h * core::dot(v_ab, r_ab) / (r2 + eta2);
+      // The velocity the viscous terms see (with no-slip walls, up to twice v_ab next to a wall);
+      // the step's viscous speed (eq. 40) is taken from the same.
+      const Vec3<T> v_ab_visc = va_visc - p.visc_vel[b];
+      const T vr = kernel.h * core::dot(v_ab_visc, r_ab) / (r2 + eta2);
       visc_max = visc_max > (vr < T(0) ? -vr : vr) ? visc_max : (vr < T(0) ? -vr : vr);
       if (!a_forces) return;
       acc -= (mass * (press_a + p.press[b]) / (rho_a * rho_b)) * grad;
       Sym3<T> tau_b = zeroSym3<T>();
       if constexpr (Visc::kNeedsStrain) tau_b = p.tau[b];
-      const Vec3<T> v_ab_visc = va_visc - p.visc_vel[b];
       acc += visc(r_ab, v_ab_visc, r2, fac, rho_a, rho_b, mass, !a_fluid || !b_fluid, tau_a, tau_b);
       if (!a_fluid) return;
       if constexpr (Ddt::kActive) {

@@ -11,5 +11,7 @@ std::string cudaDeviceName();  // "" when none
 // node). False, and nothing changes, without CUDA or a GPU.
 bool selectCudaDevice(int index);
 int ompMaxThreads();
+// What --backend auto means here: "cuda" with CUDA compiled and a GPU present, else "omp".
+std::string resolvedBackend(const std::string& backend);
 
 }  // namespace millsim::backend

@@ -63,4 +63,8 @@ void writeCheckpoint(const std::filesystem::path& path, const CheckpointData& da
 // Throws core::InputError naming the file when it is missing or not a millsim checkpoint.
 CheckpointData readCheckpoint(const std::filesystem::path& path);
 
+// Whether the HDF5 library this build links was built thread-safe (H5is_library_threadsafe):
+// several simulations writing fields or checkpoints from threads at once need it.
+bool hdf5ThreadSafe();
+
 }  // namespace millsim::io
