@@ -79,6 +79,19 @@ TEST(Sweep, AnUnstableRunIsAFailedRowAndTheOthersGoOn) {
   EXPECT_EQ(first.rfind("0,2e-3,failed,", 0), 0u) << first;
 }
 
+// A combination the case file accepts but the simulation cannot set up (a ball larger than the
+// drum's free space) is a failed row naming the cause; the other run goes on.
+TEST(Sweep, ARunThatCannotStartIsAFailedRow) {
+  SweepSpec spec = smallSweep((std::filesystem::temp_directory_path() / "millsim_sweep_nostart").string());
+  spec.sets.push_back("time.end=0.05");
+  spec.axes = {{"charge.top_size", {"0.09", "0.01"}}, {"charge.min_size", {"0.01"}}};
+  const auto rows = runSweep(spec);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].status, "failed");
+  EXPECT_NE(rows[0].error.find("does not fit"), std::string::npos) << rows[0].error;
+  EXPECT_EQ(rows[1].status, "ok");
+}
+
 TEST(Sweep, BadInputFailsBeforeAnythingRuns) {
   SweepSpec spec = smallSweep("unused");
   spec.axes = {{"dem.restitution", {"0.3", "-1"}}};
