@@ -1,19 +1,39 @@
 #include "millsim/core/rank_group.hpp"
 
+#include <algorithm>
+#include <atomic>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <thread>
 
 namespace millsim::core {
 
-void runWorkers(int threads, const std::function<void()>& worker) {
-  if (threads <= 1) {
+std::exception_ptr forEachItem(std::size_t count, int threads, const std::function<void(std::size_t)>& body) {
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> stop{false};
+  std::mutex mutex;
+  std::exception_ptr failure;
+  const auto worker = [&]() {
+    for (std::size_t k = next++; k < count && !stop; k = next++) {
+      try {
+        body(k);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+        stop = true;
+      }
+    }
+  };
+  const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)), count));
+  if (n <= 1) {
     worker();
-    return;
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < n; ++t) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
   }
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
+  return failure;
 }
 
 GatheredShares gatherShares(const RankGroup& ranks, const std::string& payload, std::exception_ptr failure) {

@@ -2,7 +2,6 @@
 #include "millsim/calib/calibrator.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -147,32 +146,15 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
     for (std::size_t k = 0; k < batch.size(); ++k)
       if (core::ownsItem(ranks, static_cast<int>(k))) mine.push_back(batch[k]);
     std::vector<Evaluation> finished;
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr failure;
-    const auto worker = [&]() {
-      while (true) {
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (failure) return;
-        }
-        const std::size_t k = next++;
-        if (k >= mine.size()) return;
-        try {
-          Evaluation ev = m_objective.evaluate(mine[k]);
-          ev.candidate = mine[k];
-          std::lock_guard<std::mutex> lock(mutex);
-          if (ranks)
-            finished.push_back(ev);
-          else
-            record(ev);
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!failure) failure = std::current_exception();
-          return;
-        }
-      }
-    };
-    core::runWorkers(std::min<int>(o.parallel, static_cast<int>(mine.size())), worker);
+    const std::exception_ptr failure = core::forEachItem(mine.size(), o.parallel, [&](std::size_t k) {
+      Evaluation ev = m_objective.evaluate(mine[k]);
+      ev.candidate = mine[k];
+      std::lock_guard<std::mutex> lock(mutex);
+      if (ranks)
+        finished.push_back(ev);
+      else
+        record(ev);
+    });
     if (!ranks) {
       if (failure) std::rethrow_exception(failure);
       return;

@@ -1,7 +1,6 @@
 #include "millsim/sim/sweep.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -143,26 +142,12 @@ std::vector<SweepRow> runSweep(const SweepSpec& spec, const core::RankGroup* ran
 
   std::vector<SweepRow> done;
   std::mutex mutex;
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  const auto worker = [&]() {
-    for (std::size_t i = next++; i < mine.size(); i = next++) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (failure) return;
-      }
-      try {
-        SweepRow row = runOne(spec, settings[mine[i]], combos[mine[i]], mine[i]);
-        std::lock_guard<std::mutex> lock(mutex);
-        if (progress) progress(row);
-        done.push_back(std::move(row));
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!failure) failure = std::current_exception();
-      }
-    }
-  };
-  core::runWorkers(std::min<int>(spec.parallel, static_cast<int>(mine.size())), worker);
+  const std::exception_ptr failure = core::forEachItem(mine.size(), spec.parallel, [&](std::size_t i) {
+    SweepRow row = runOne(spec, settings[mine[i]], combos[mine[i]], mine[i]);
+    std::lock_guard<std::mutex> lock(mutex);
+    if (progress) progress(row);
+    done.push_back(std::move(row));
+  });
   if (ranks) {
     nlohmann::json share = nlohmann::json::array();
     for (const SweepRow& r : done) share.push_back(toJson(r));

@@ -26,8 +26,11 @@ class RankGroup {
 // cost, go to different ranks).
 inline bool ownsItem(const RankGroup* ranks, int k) { return !ranks || k % ranks->size() == ranks->rank(); }
 
-// Runs `worker` on `threads` threads (on the calling thread when threads <= 1) and joins them.
-void runWorkers(int threads, const std::function<void()>& worker);
+// Calls body(k) for k = 0 .. count-1 on up to `threads` threads (on the calling thread when
+// threads <= 1), handing out items in order. The first exception a body throws stops the
+// hand-out of further items and is returned once all threads are done (null when none threw).
+// Bodies guard what they share themselves.
+std::exception_ptr forEachItem(std::size_t count, int threads, const std::function<void(std::size_t)>& body);
 
 // Collective: every rank's `payload` (its results of a batch), on every rank, by rank. Every
 // rank takes part even when its own work failed (`failure` set), so none waits for ever.
