@@ -40,6 +40,13 @@ struct DemHostState {
   std::vector<std::int64_t> hist_id;    // kHistorySlots per particle
   std::vector<double> hist_xi;          // 3 * kHistorySlots per particle
   std::vector<double> dissipated, work_in;
+  // The force and torque the next step's first half-kick uses (contacts and gravity; held
+  // external loads left out: they are set again by whoever holds them), 3 per particle. The
+  // velocity Verlet step evaluates them with the half-step velocity, which the state does not
+  // hold, so a restart takes them from here instead of evaluating them anew with v(t) (that
+  // moved every damped and sliding contact: kinetic energy 2.5e-7 off after one step). Empty:
+  // evaluated from the state (a new run).
+  std::vector<double> force, torque;
   std::size_t size() const { return radius.size(); }
 };
 

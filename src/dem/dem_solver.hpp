@@ -163,6 +163,17 @@ class DemSolver final : public DemEngine {
     m_nbr_count.resize(n, 0);
     m_nbr_start.resize(n + 1, 0);
     seedHistory(s);
+    m_restored_force.resize(0);
+    m_restored_torque.resize(0);
+    if (s.force.size() == 3 * n && s.torque.size() == 3 * n) {
+      std::vector<Vec3<T>> f(n), tq(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        f[i] = {T(s.force[3 * i]), T(s.force[3 * i + 1]), T(s.force[3 * i + 2])};
+        tq[i] = {T(s.torque[3 * i]), T(s.torque[3 * i + 1]), T(s.torque[3 * i + 2])};
+      }
+      m_restored_force.copyFromHost(f);
+      m_restored_torque.copyFromHost(tq);
+    }
     m_scratch_int.resize(n, 0);
     m_scratch_real.resize(n, T(0));
     m_scratch_double.resize(n, 0.0);
@@ -290,7 +301,16 @@ class DemSolver final : public DemEngine {
     m_wall_xi.copyToHost(wall_xi);
     m_dissipated.copyToHost(dissipated);
     m_work_in.copyToHost(work_in);
+    std::vector<Vec3<T>> force, torque, ext_force, ext_torque;
+    m_force.copyToHost(force);
+    m_torque.copyToHost(torque);
+    if (m_has_external) {
+      m_ext_force.copyToHost(ext_force);
+      m_ext_torque.copyToHost(ext_torque);
+    }
     const std::size_t n = pos.size();
+    s.force.resize(3 * n);
+    s.torque.resize(3 * n);
     s.pos.resize(3 * n);
     s.vel.resize(3 * n);
     s.omega.resize(3 * n);
@@ -319,6 +339,8 @@ class DemSolver final : public DemEngine {
       s.inertia[h] = inv_inertia[i] > T(0) ? 1.0 / double(inv_inertia[i]) : 0.0;
       s.dissipated[h] = dissipated[i];
       s.work_in[h] = work_in[i];
+      put3(s.force, h, m_has_external ? force[i] - ext_force[h] : force[i]);
+      put3(s.torque, h, m_has_external ? torque[i] - ext_torque[h] : torque[i]);
       for (int q = 0; q < kWallSlots && wall_key[i * kWallSlots + q] != kNoPartner; ++q)
         record(id[i], wallKey(wall_key[i * kWallSlots + q]), wall_xi[i * kWallSlots + q]);
       for (int slot = start[i]; slot < start[i + 1]; ++slot) {
@@ -345,6 +367,7 @@ class DemSolver final : public DemEngine {
     m_pair_xi.swap(pair_xi);
     m_wall_xi.swap(wall_xi);
     m_wall_key.swap(wall_key);
+    takeRestoredForces();
     if (m_nb > 0) {
       bodyLoads();
       placeElements();  // omega from (q, L) on every element before the first step
@@ -355,6 +378,7 @@ class DemSolver final : public DemEngine {
     allocateStirred();
     rebuildNeighbours();
     computeForces(walls, T(0));
+    takeRestoredForces();
     if (m_nb > 0) {
       bodyLoads();
       placeElements();
@@ -594,6 +618,17 @@ class DemSolver final : public DemEngine {
 
   // A checkpoint's springs: wall springs straight into the wall tables; pair springs into the
   // "old" spring table, which the first rebuild carries onto the neighbour list.
+  // A checkpoint's forces replace the ones initialize() evaluated (DemHostState::force): slot
+  // i holds host particle id[i]. Used once.
+  void takeRestoredForces() {
+    if (m_restored_force.size() != static_cast<std::size_t>(m_n)) return;
+    backend::parallelFor(Space{}, m_n,
+                         TakeHostOrdered<T>{m_id.data(), m_restored_force.data(), m_restored_torque.data(),
+                                            m_force.data(), m_torque.data()});
+    m_restored_force.resize(0);
+    m_restored_torque.resize(0);
+  }
+
   void seedHistory(const DemHostState& s) {
     const std::size_t n = s.size();
     std::vector<int> wall_key(n * kWallSlots, kNoPartner), start(n + 1, 0), partner;
@@ -869,6 +904,7 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, int> m_nbr_count, m_nbr_start, m_nbr_list;
   backend::Array<Space, double> m_dissipated, m_work_in, m_work_external;
   // Loads from outside (the fluid), by host number; only in coupled runs.
+  backend::Array<Space, Vec3<T>> m_restored_force, m_restored_torque;  // host order, until initialize()
   bool m_has_external = false;
   backend::Array<Space, Vec3<T>> m_ext_force, m_ext_torque, m_ext_force_old, m_ext_torque_old;
   // Springs: one per half-list slot for pairs, kWallSlots per particle for walls.

@@ -75,4 +75,18 @@ struct TransferPairSprings {
   }
 };
 
+// dst[i] = src[id[i]] for a force and a torque kept in host order (a checkpoint's).
+template <class T>
+struct TakeHostOrdered {
+  const int* id;
+  const core::Vec3<T>* force_host;
+  const core::Vec3<T>* torque_host;
+  core::Vec3<T>* force;
+  core::Vec3<T>* torque;
+  MILLSIM_HD void operator()(int i) const {
+    force[i] = force_host[id[i]];
+    torque[i] = torque_host[id[i]];
+  }
+};
+
 }  // namespace millsim::dem

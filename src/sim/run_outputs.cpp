@@ -116,6 +116,8 @@ void writeSummaryJson(const std::filesystem::path& path, const RunSummary& s, co
     j["wet_mill"] = {
         {"sph_steps", s.sph_steps},
         {"sph_excluded", s.sph_excluded},
+        {"slurry_kinetic_J", s.slurry_kinetic},
+        {"slurry_potential_J", s.slurry_potential},
         {"slurry_frames", s.slurry_frames},
         {"slurry_curve_mm", s.slurry_valid ? nlohmann::ordered_json(s.slurry_coef) : nlohmann::ordered_json()}};
     if (!s.slurry_error.empty()) j["wet_mill"]["slurry_error"] = s.slurry_error;

@@ -333,6 +333,8 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
   dem::DemHostState s;
   engine->getState(s);
   for (const auto& [key, v] : stateArrays(s)) cp.reals[key] = *v;
+  cp.reals["force"] = s.force;
+  cp.reals["torque"] = s.torque;
   cp.ints["hist_id"] = s.hist_id;
   if (dcdem) {
     dem::DemBodies b;
@@ -354,6 +356,7 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
     cp.scalars["heat_height"] = heat.height();
     cp.scalars["heat_frames"] = heat.frames();
   }
+  if (wet) wet->save(cp);
   io::writeCheckpoint(path, cp);
 }
 
@@ -366,6 +369,12 @@ void Simulation::Impl::restoreCheckpoint() {
     return it->second;
   };
   for (const auto& [key, v] : stateArrays(s)) *v = real(key);
+  // The forces of the checkpointed step (DemHostState::force); a checkpoint written before
+  // they were kept has none, and the restart evaluates them (with v(t): close, not exact).
+  if (cp.reals.count("force") && cp.reals.count("torque")) {
+    s.force = cp.reals.at("force");
+    s.torque = cp.reals.at("torque");
+  }
   s.hist_id = cp.ints.at("hist_id");
   if (!dcdem && cp.ints.count("body_start"))
     throw core::InputError(options.restart +
@@ -395,12 +404,20 @@ void Simulation::Impl::restoreCheckpoint() {
     angle->accumulator().restore(static_cast<int>(sc("heat_width")), static_cast<int>(sc("heat_height")),
                                  static_cast<int>(sc("heat_frames")), std::vector<std::uint32_t>(h.begin(), h.end()));
   }
+  // A wet mill past its pour continues with the slurry of the checkpoint (one written before
+  // the pour has none: the slurry is poured when the drum starts, as in a fresh run).
+  if (scene.effect_sph && WetMill::inCheckpoint(cp)) {
+    wet = std::make_unique<WetMill>(scene, options, cp, dem::ballStates(*engine), phi, motion->omega(t), options.restart);
+  } else if (scene.effect_sph && t >= scene.drum.start_time - 0.5 * dt) {
+    throw core::InputError(options.restart + ": checkpoint at t = " + std::to_string(t) +
+                           " s, after the slurry's pour, holds no slurry (written by a balls-only case?)");
+  } else if (!scene.effect_sph && WetMill::inCheckpoint(cp)) {
+    throw core::InputError(options.restart + ": checkpoint holds a wet mill's slurry, the case has no <sph>");
+  }
 }
 
 Simulation::Simulation(const scene::Scene& scene, const RunOptions& options) {
   // Only the engines the effects call for exist: a fluid-only case has no DEM arrays at all.
-  if (scene.effect_sph && scene.effect_dem && !options.restart.empty())
-    throw core::InputError("--restart: a wet mill (SPH-DEM) cannot restart from a checkpoint yet");
   if (scene.effect_sph && !scene.effect_dem)
     m_sph = std::make_unique<SphRun>(scene, options);
   else if (scene.has_stirrer)

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "millsim/core/error.hpp"
 #include "millsim/io/plot_png.hpp"
@@ -76,12 +78,9 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   fluid.resize(wanted);
   const double surface_y = fluid.empty() ? -R : fluid.back().y + 0.5 * dp;
 
-  m_setup = sphSolverSetup(sc, std::max(surface_y + R, dp));
+  m_hswl = std::max(surface_y + R, dp);
+  setupSolver();
   const int layers = boundaryLayers(sc, m_setup);
-  const double wall = (layers + 2) * dp;
-  m_setup.domain_lo = {-R - wall, -R - wall, -wall};
-  m_setup.domain_hi = {R + wall, R + wall, L + wall};
-  m_setup.motion_center = {0, 0, 0};
 
   sph::SphHostState st;
   for (const FillPoint& f : fluid) {
@@ -99,6 +98,23 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   }
   if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
   m_particles = st.size();
+  makeEngine(options);
+  m_engine->setState(st);
+  m_coupling = std::make_unique<SphDemCoupling>(m_balls);
+  m_coupling->initialize(*m_engine, balls, motionAt(phi, 0.0));
+}
+
+// The solver's setup from the case and the still-water height (sets c0) of the pour.
+void WetMill::setupSolver() {
+  const double R = 0.5 * m_scene.drum.diameter, L = m_scene.drum.length;
+  m_setup = sphSolverSetup(m_scene, m_hswl);
+  const double wall = (boundaryLayers(m_scene, m_setup) + 2) * m_setup.dp;
+  m_setup.domain_lo = {-R - wall, -R - wall, -wall};
+  m_setup.domain_hi = {R + wall, R + wall, L + wall};
+  m_setup.motion_center = {0, 0, 0};
+}
+
+void WetMill::makeEngine(const RunOptions& options) {
   if (options.backend == "cuda") {
 #if defined(MILLSIM_HAVE_CUDA)
     m_engine = sph::makeSphEngineCuda(m_setup);
@@ -108,9 +124,100 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   } else {
     m_engine = sph::makeSphEngineOmp(m_setup);
   }
-  m_engine->setState(st);
+}
+
+namespace {
+
+// Checkpoint datasets of the wet mill (next to the DEM's): the SPH restart state and the slurry
+// surface collected so far.
+std::vector<double> flatten(const std::vector<sph::SphBodyLoad>& loads) {
+  std::vector<double> v;
+  for (const auto& l : loads) v.insert(v.end(), {l.force[0], l.force[1], l.force[2], l.torque[0], l.torque[1], l.torque[2]});
+  return v;
+}
+
+std::vector<std::int64_t> toInts(const std::vector<int>& v) { return {v.begin(), v.end()}; }
+
+}  // namespace
+
+void WetMill::save(io::CheckpointData& cp) const {
+  sph::SphRestartState s;
+  m_engine->getRestartState(s);
+  cp.reals["sph_pos"] = s.particles.pos;
+  cp.reals["sph_vel"] = s.particles.vel;
+  cp.reals["sph_rho"] = s.particles.rho;
+  cp.ints["sph_code"] = toInts(s.particles.code);
+  cp.ints["sph_body"] = toInts(s.particles.body);
+  cp.reals["sph_offset"] = s.particles.offset;
+  cp.reals["sph_pos0"] = s.pos0;
+  cp.reals["sph_vel_m1"] = s.vel_m1;
+  cp.reals["sph_rho_m1"] = s.rho_m1;
+  cp.reals["sph_impulse"] = flatten(s.impulse);
+  std::vector<double> surface;
+  for (const auto& p : m_surface) surface.insert(surface.end(), {p.x_mm, p.y_mm, double(p.frame)});
+  cp.reals["wet_surface"] = surface;
+  cp.scalars["sph_step"] = double(s.step);
+  cp.scalars["wet_steps"] = double(m_steps);
+  cp.scalars["wet_frames"] = m_frames;
+  cp.scalars["wet_fluid0"] = double(m_fluid0);
+  cp.scalars["wet_phi0"] = m_phi0;
+  cp.scalars["wet_t0"] = m_t0;
+  cp.scalars["wet_hswl"] = m_hswl;
+}
+
+bool WetMill::inCheckpoint(const io::CheckpointData& cp) { return cp.reals.count("sph_pos") > 0; }
+
+WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const io::CheckpointData& cp,
+                 const dem::DemHostState& balls, double phi, double omega, const std::string& file)
+    : m_scene(sc) {
+  auto real = [&](const char* k) -> const std::vector<double>& {
+    auto it = cp.reals.find(k);
+    if (it == cp.reals.end()) throw core::InputError(file + ": checkpoint lacks the wet mill's '" + k + "'");
+    return it->second;
+  };
+  auto ints = [&](const char* k) {
+    auto it = cp.ints.find(k);
+    if (it == cp.ints.end()) throw core::InputError(file + ": checkpoint lacks the wet mill's '" + k + "'");
+    return std::vector<int>(it->second.begin(), it->second.end());
+  };
+  auto scalar = [&](const char* k) {
+    auto it = cp.scalars.find(k);
+    if (it == cp.scalars.end()) throw core::InputError(file + ": checkpoint lacks the wet mill's '" + k + "'");
+    return it->second;
+  };
+  m_balls = balls.size();
+  m_phi0 = scalar("wet_phi0");
+  m_t0 = scalar("wet_t0");
+  m_hswl = scalar("wet_hswl");
+  m_fluid0 = std::llround(scalar("wet_fluid0"));
+  m_steps = std::llround(scalar("wet_steps"));
+  m_frames = static_cast<int>(std::lround(scalar("wet_frames")));
+  const std::vector<double>& surface = real("wet_surface");
+  for (std::size_t k = 0; k + 2 < surface.size(); k += 3)
+    m_surface.push_back({surface[k], surface[k + 1], static_cast<int>(std::lround(surface[k + 2]))});
+  setupSolver();
+  sph::SphRestartState s;
+  s.particles.pos = real("sph_pos");
+  s.particles.vel = real("sph_vel");
+  s.particles.rho = real("sph_rho");
+  s.particles.code = ints("sph_code");
+  s.particles.body = ints("sph_body");
+  s.particles.offset = real("sph_offset");
+  s.pos0 = real("sph_pos0");
+  s.vel_m1 = real("sph_vel_m1");
+  s.rho_m1 = real("sph_rho_m1");
+  s.step = std::llround(scalar("sph_step"));
+  const std::vector<double>& imp = real("sph_impulse");
+  for (std::size_t k = 0; k + 5 < imp.size(); k += 6)
+    s.impulse.push_back({{imp[k], imp[k + 1], imp[k + 2]}, {imp[k + 3], imp[k + 4], imp[k + 5]}});
+  const std::size_t n = s.particles.rho.size();
+  if (s.particles.pos.size() != 3 * n || s.particles.vel.size() != 3 * n || s.particles.code.size() != n)
+    throw core::InputError(file + ": the wet mill's particle arrays in the checkpoint disagree in length");
+  m_particles = n;
+  makeEngine(options);
+  m_engine->setRestartState(s);
   m_coupling = std::make_unique<SphDemCoupling>(m_balls);
-  m_coupling->initialize(*m_engine, balls, motionAt(phi, 0.0));
+  m_coupling->initialize(*m_engine, balls, motionAt(phi, omega));
 }
 
 void WetMill::advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, double& phi, long long& dem_steps,
@@ -164,6 +271,8 @@ void WetMill::finish(const std::filesystem::path& out, RunSummary& summary, bool
   summary.sph_particles = m_particles;
   const sph::SphSums now = m_engine->sums();
   summary.sph_excluded = now.excluded_density + now.excluded_domain;
+  summary.slurry_kinetic = now.kinetic;
+  summary.slurry_potential = now.potential;
   summary.sph_steps = m_steps;
   summary.slurry_frames = m_frames;
   // Per horizontal position: keep the frames' points between the median and Q3 (paper).

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "dem/dem_engine.hpp"
+#include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
 #include "millsim/scene/scene.hpp"
 #include "millsim/sim/simulation.hpp"
@@ -36,6 +37,13 @@ namespace millsim::sim {
 class WetMill {
  public:
   WetMill(const scene::Scene& scene, const RunOptions& options, const dem::DemHostState& balls, double phi, double t);
+  // From a checkpoint that save() wrote (file: its name, for errors), with the DEM's balls as
+  // restored and the drum at angle phi turning at omega.
+  WetMill(const scene::Scene& scene, const RunOptions& options, const io::CheckpointData& cp,
+          const dem::DemHostState& balls, double phi, double omega, const std::string& file);
+  // Adds the slurry's state (SPH restart state, surface frames) to a checkpoint.
+  void save(io::CheckpointData& cp) const;
+  static bool inCheckpoint(const io::CheckpointData& cp);
 
   // One coupled step; advances t, phi and the DEM step count.
   void advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, double& phi, long long& dem_steps,
@@ -53,6 +61,8 @@ class WetMill {
 
  private:
   sph::SphMotion motionAt(double phi, double omega) const { return {phi - m_phi0, omega}; }
+  void setupSolver();
+  void makeEngine(const RunOptions& options);
   void writeOverlay(const std::filesystem::path& path, const RunSummary& summary) const;
 
   scene::Scene m_scene;
@@ -62,6 +72,7 @@ class WetMill {
   std::size_t m_particles = 0, m_balls = 0;
   long long m_fluid0 = 0, m_steps = 0;
   double m_phi0 = 0, m_t0 = 0;
+  double m_hswl = 0;  // still-water height of the pour (sets c0)
   std::vector<vision::SurfacePoint> m_surface;  // per frame, highest fluid per x bin (mm)
   int m_frames = 0;
   bool m_curve_valid = false;

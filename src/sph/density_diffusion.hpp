@@ -35,7 +35,7 @@ struct DdtMolteni2009 {
   T coef = 0;  // 2 delta h c0
   T eta2 = 0;
   // Contribution of neighbour b to drho_a/dt.
-  MILLSIM_HD T operator()(T rho_a, T rho_b, T /*height_ab*/, T r2, T fac, T vol_b) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE T operator()(T rho_a, T rho_b, T /*height_ab*/, T r2, T fac, T vol_b) const {
     return -coef * (rho_b - rho_a) * fac * r2 / (r2 + eta2) * vol_b;
   }
 };
@@ -52,7 +52,7 @@ struct DdtFourtakas2019 {
   // (1 + x)^(1/gamma) - 1 by its Taylor series to x^3: x = rho0 g dz / B is below ~1e-3 over a
   // kernel support (density varies by ~1% over the whole fluid depth), the x^4 term is ~0.03 x^4
   // (1e-9 relative, 1e-10 kg/m3), and pow() per pair was 30% of the interaction time.
-  MILLSIM_HD T operator()(T rho_a, T rho_b, T height_ab, T r2, T fac, T vol_b) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE T operator()(T rho_a, T rho_b, T height_ab, T r2, T fac, T vol_b) const {
     const T x = gz * height_ab;
     const T a = inv_gamma;
     const T rho_h = rho0 * a * x * (T(1) + (a - T(1)) * x * (T(0.5) + (a - T(2)) * x * (T(1) / T(6))));

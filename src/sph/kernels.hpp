@@ -31,7 +31,7 @@ struct WendlandC2 {
     const T s2 = s * s;
     return a_d * s2 * s2 * (T(2) * q + T(1));
   }
-  MILLSIM_HD T fac(T r) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE T fac(T r) const {
     const T s = T(1) - T(0.5) * r * inv_h;
     return b * s * s * s;
   }
@@ -54,7 +54,7 @@ struct CubicSpline {
     return T(0.25) * a_d * s * s * s;
   }
   // dW/dr / r = (dW/dq) / (h^2 q).
-  MILLSIM_HD T fac(T r) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE T fac(T r) const {
     const T q = r * inv_h;
     if (q <= T(1)) return a_d * inv_h2 * (T(-3) + T(2.25) * q);
     const T s = T(2) - q;

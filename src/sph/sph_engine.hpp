@@ -62,6 +62,19 @@ struct SphBodyLoad {
   std::array<double, 3> force{}, torque{};
 };
 
+// Everything a restart needs to continue a run exactly: the particles (with the bodies' offsets),
+// the moving walls' reference positions (the imposed motion is applied to them), Verlet's
+// history (previous velocity and density, the step count that places its Euler steps) and the
+// bodies' leap-frog impulses. Host order, like SphHostState; arrays an integrator or scene does
+// not use are empty.
+struct SphRestartState {
+  SphHostState particles;
+  std::vector<double> pos0;            // 3 per particle, with moving walls
+  std::vector<double> vel_m1, rho_m1;  // Verlet
+  long long step = 0;
+  std::vector<SphBodyLoad> impulse;    // per body
+};
+
 struct SphSums {
   double kinetic = 0, potential = 0;  // fluid only, J (per metre of depth in 2D)
   double fluid_mass = 0;              // active fluid, kg (per metre in 2D)
@@ -78,6 +91,10 @@ class SphEngine {
   virtual const char* precisionName() const = 0;
   virtual void setState(const SphHostState& s) = 0;
   virtual void getState(SphHostState& s) const = 0;
+  // A checkpoint's state: getRestartState after a step, setRestartState then initialize() on a
+  // new engine of the same setup continue as if there had been no break.
+  virtual void getRestartState(SphRestartState& s) const = 0;
+  virtual void setRestartState(const SphRestartState& s) = 0;
   // Neighbours and forces of the current state (call after setState).
   virtual void initialize(const SphMotion& now) = 0;
   // Time step from the last force evaluation: CFL (eqs. 40-41) or the fixed one, and never above

@@ -14,22 +14,12 @@
 #include "millsim/core/vec3.hpp"
 #include "millsim/neighbors/cell_grid.hpp"
 #include "sph/eos.hpp"
+#include "sph/sph_pair.hpp"
 #include "sph/viscosity.hpp"
 
 namespace millsim::sph {
 
 using core::Vec3;
-
-enum ParticleCode : int {
-  kFluid = 0,
-  kBoundFixed = 1,
-  kBoundMoving = 2,
-  kBoundBody = 3,
-  kExcludedDensity = 4,  // first excluded code: everything >= this is out of the run
-  kExcludedDomain = 5,
-};
-
-MILLSIM_HD inline bool isExcluded(int code) { return code >= kExcludedDensity; }
 
 template <class T>
 struct SphView {
@@ -58,79 +48,99 @@ struct EosPressure {
   MILLSIM_HD void operator()(int i) const { press[i] = eos.pressure(rho[i]); }
 };
 
-// Forces, continuity and the shifting sums of particle a from every neighbour b within 2h.
-// Fluid a: continuity (+ DDT with fluid b), pressure, viscosity, shifting sums. Boundary a
-// (DBC, eq. 42): continuity from fluid neighbours only; a body particle also sums the pressure
-// and viscous force of its fluid neighbours (the same pair terms with the roles swapped, so the
-// pair forces are equal and opposite and momentum passes exactly between fluid and body).
-template <class T, class Kernel, class Ddt, class Visc, bool kShift>
+// The state a pair term reads of particle i.
+template <class T, bool kStrain>
+MILLSIM_HD MILLSIM_FORCE_INLINE SphSide<T> loadSide(const SphView<T>& p, int i) {
+  SphSide<T> s{p.code[i], p.vel[i], p.visc_vel[i], p.rho[i], p.press[i], zeroSym3<T>()};
+  if constexpr (kStrain) s.tau = p.tau[i];
+  return s;
+}
+
+template <class T, bool kShift, bool kStrain>
+MILLSIM_HD inline void storeSums(const SphView<T>& p, int a, const PairSums<T>& s) {
+  p.drho[a] = s.drho;
+  p.visc_dt[a] = s.visc_max;
+  p.ace[a] = s.acc;
+  if constexpr (kShift) {
+    p.shift_grad[a] = s.grad_c;
+    p.shift_div[a] = s.div_r;
+  }
+  if constexpr (kStrain) p.strain[a] = s.strain;
+}
+
+// Forces, continuity and the shifting sums of particle a from every neighbour b within 2h,
+// each particle gathering its own sums (every pair visited from both sides: no writes to a
+// partner, the GPU's loop). Fluid a: continuity (+ DDT with fluid b), pressure, viscosity,
+// shifting sums. Boundary a (DBC, eq. 42): continuity from fluid neighbours only; a body
+// particle also sums the pressure and viscous force of its fluid neighbours (the same pair
+// terms with the roles swapped, so the pair forces are equal and opposite and momentum passes
+// exactly between fluid and body).
+template <class Physics, class T = decltype(Physics::mass)>
 struct SphInteraction {
-  neighbors::CellListView<T> cells;        // every active particle: searched by fluid particles
-  neighbors::CellListView<T> fluid_cells;  // fluid only: searched by boundary particles
+  neighbors::CellListView<T> fluid_cells;  // the fluid segment of the cell list
+  neighbors::CellListView<T> bound_cells;  // walls and bodies
   SphView<T> p;
-  Kernel kernel;
-  Ddt ddt;
-  Visc visc;
-  T mass;       // of every particle, rho0 dp^Dim
-  T support2;   // (2h)^2
-  T eta2;
-  Vec3<T> up;   // unit vector along -g (heights for Fourtakas DDT)
+  Physics phys;
+  T support2;  // (2h)^2
 
   MILLSIM_HD void operator()(int a) const {
-    const int code_a = p.code[a];
-    if (isExcluded(code_a)) return;
-    const bool a_fluid = code_a == kFluid;
-    const bool a_forces = a_fluid || code_a == kBoundBody;
-    const Vec3<T> xa = p.pos[a], va = p.vel[a], va_visc = p.visc_vel[a];
-    const T rho_a = p.rho[a], press_a = p.press[a];
-    Sym3<T> tau_a = zeroSym3<T>();
-    if constexpr (Visc::kNeedsStrain) tau_a = p.tau[a];
-    T drho = T(0), visc_max = T(0), div_r = T(0);
-    Vec3<T> acc = core::zero3<T>(), grad_c = core::zero3<T>();
-    Sym3<T> strain = zeroSym3<T>();
-    // A wall particle deep in a wall has only wall neighbours: searching the fluid alone skips
-    // them (in a 3D tank 3/4 of the particles are wall).
-    (a_fluid ? cells : fluid_cells).forEachCandidate(xa, [&](int b) {
-      if (b == a) return;
-      const bool b_fluid = p.code[b] == kFluid;
-      const Vec3<T> r_ab = xa - p.pos[b];
-      const T r2 = core::norm2(r_ab);
-      if (r2 >= support2 || r2 <= T(0)) return;
-      const T fac = kernel.fac(std::sqrt(r2));
-      const Vec3<T> grad = fac * r_ab;
-      const Vec3<T> v_ab = va - p.vel[b];
-      const T rho_b = p.rho[b];
-      const T vol_b = mass / rho_b;
-      drho += rho_a * vol_b * core::dot(v_ab, grad);
-      // The velocity the viscous terms see (with no-slip walls, up to twice v_ab next to a wall);
-      // the step's viscous speed (eq. 40) is taken from the same.
-      const Vec3<T> v_ab_visc = va_visc - p.visc_vel[b];
-      const T vr = kernel.h * core::dot(v_ab_visc, r_ab) / (r2 + eta2);
-      visc_max = visc_max > (vr < T(0) ? -vr : vr) ? visc_max : (vr < T(0) ? -vr : vr);
-      if (!a_forces) return;
-      acc -= (mass * (press_a + p.press[b]) / (rho_a * rho_b)) * grad;
-      Sym3<T> tau_b = zeroSym3<T>();
-      if constexpr (Visc::kNeedsStrain) tau_b = p.tau[b];
-      acc += visc(r_ab, v_ab_visc, r2, fac, rho_a, rho_b, mass, !a_fluid || !b_fluid, tau_a, tau_b);
-      if (!a_fluid) return;
-      if constexpr (Ddt::kActive) {
-        if (b_fluid) drho += ddt(rho_a, rho_b, core::dot(up, r_ab), r2, fac, vol_b);
-      }
-      if constexpr (kShift) {
-        grad_c += vol_b * grad;
-        div_r -= vol_b * fac * r2;
-      }
-      if constexpr (Visc::kNeedsStrain) addStrain(strain, -v_ab_visc, grad, vol_b);
-    });
-    p.drho[a] = drho;
-    p.visc_dt[a] = visc_max;
-    p.ace[a] = acc;
-    if constexpr (kShift) {
-      p.shift_grad[a] = grad_c;
-      p.shift_div[a] = div_r;
-    }
-    if constexpr (Visc::kNeedsStrain) p.strain[a] = strain;
+    if (isExcluded(p.code[a])) return;
+    const SphSide<T> sa = loadSide<T, Physics::kStrain>(p, a);
+    PairSums<T> sums;
+    auto pair = [&](int b, Vec3<T> r_ab, T r2) {
+      if (b == a || r2 <= T(0)) return;
+      const T fac = phys.kernel.fac(std::sqrt(r2));
+      phys.addSide(sums, sa, loadSide<T, Physics::kStrain>(p, b), r_ab, r2, fac, fac * r_ab);
+    };
+    fluid_cells.forEachWithin(p.pos[a], support2, p.pos, pair);
+    // A wall particle interacts with fluid only (in a 3D tank 3/4 of the particles are wall).
+    if (sa.fluid()) bound_cells.forEachWithin(p.pos[a], support2, p.pos, pair);
+    storeSums<T, Physics::kShifting, Physics::kStrain>(p, a, sums);
   }
+};
+
+// The same sums with each pair visited once (the host's loop): by its fluid side, and of a
+// fluid-fluid pair by the lower-numbered particle (the particles are numbered in cell order,
+// fluid first, so that is half the search block). Its partner's terms go to a sink
+// (sph_scatter.hpp) that adds them to the partner's sums; boundary particles search nothing,
+// as all their pairs have a fluid side. The sums must be cleared before the pass (ClearPairSums):
+// a partner's share can arrive before or after its own pairs are done. Only the largest viscous
+// speed is used, so each pair books it on its evaluating side alone.
+template <class Physics, class Sink, class T = decltype(Physics::mass)>
+struct SphPairInteraction {
+  neighbors::CellListView<T> fluid_cells;
+  neighbors::CellListView<T> bound_cells;
+  SphView<T> p;
+  Physics phys;
+  T support2;
+  Sink sink;
+
+  MILLSIM_HD void operator()(int a) const {
+    if (p.code[a] != kFluid) return;
+    const SphSide<T> sa = loadSide<T, Physics::kStrain>(p, a);
+    PairSums<T> sums;
+    auto pair = [&](int b, Vec3<T> r_ab, T r2) {
+      if (r2 <= T(0)) return;
+      const T fac = phys.kernel.fac(std::sqrt(r2));
+      const Vec3<T> grad = fac * r_ab;
+      const SphSide<T> sb = loadSide<T, Physics::kStrain>(p, b);
+      phys.addSide(sums, sa, sb, r_ab, r2, fac, grad);
+      PairSums<T> share;
+      phys.template addSide<false>(share, sb, sa, -r_ab, r2, fac, -grad);
+      sink.addPartner(b, share);
+    };
+    const Vec3<T> xa = p.pos[a];
+    fluid_cells.forEachWithinAfter(a, xa, support2, p.pos, pair);
+    bound_cells.forEachWithin(xa, support2, p.pos, pair);
+    sink.addOwn(a, sums);
+  }
+};
+
+// Zeroes the sums the pair-once loop accumulates into.
+template <class T, bool kShift, bool kStrain>
+struct ClearPairSums {
+  SphView<T> p;
+  MILLSIM_HD void operator()(int a) const { storeSums<T, kShift, kStrain>(p, a, PairSums<T>{}); }
 };
 
 // No-slip velocity of the wall particles for the viscous terms (Adami, Hu & Adams 2012, J.
@@ -159,9 +169,7 @@ struct WallNoSlipVelocity {
     const Vec3<T> xa = pos[a];
     T w_sum = T(0);
     Vec3<T> wv_sum = core::zero3<T>();
-    fluid_cells.forEachCandidate(xa, [&](int b) {
-      const T r2 = core::norm2(xa - pos[b]);
-      if (r2 >= support2) return;
+    fluid_cells.forEachWithin(xa, support2, pos, [&](int b, Vec3<T>, T r2) {
       const T w = kernel.w(std::sqrt(r2));
       w_sum += w;
       wv_sum += w * vel[b];

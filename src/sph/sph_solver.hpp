@@ -11,6 +11,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
@@ -19,6 +20,7 @@
 #include "sph/kernels.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
+#include "sph/sph_scatter.hpp"
 
 namespace millsim::sph {
 
@@ -92,17 +94,18 @@ struct ProbeSum {
 // Neighbours within 2h that particle a interacts with (the interaction's own search).
 template <class T>
 struct CountInteractions {
-  neighbors::CellListView<T> cells, fluid_cells;
+  neighbors::CellListView<T> fluid_cells, bound_cells;
   const Vec3<T>* pos;
   const int* code;
   T support2;
   MILLSIM_HD double operator()(int a) const {
     if (isExcluded(code[a])) return 0.0;
-    const bool fluid = code[a] == kFluid;
     double n = 0;
-    (fluid ? cells : fluid_cells).forEachCandidate(pos[a], [&](int b) {
-      if (b != a && core::norm2(pos[a] - pos[b]) < support2) n += 1;
-    });
+    auto count = [&](int b, Vec3<T>, T) {
+      if (b != a) n += 1;
+    };
+    fluid_cells.forEachWithin(pos[a], support2, pos, count);
+    if (code[a] == kFluid) bound_cells.forEachWithin(pos[a], support2, pos, count);
     return n;
   }
 };
@@ -140,8 +143,7 @@ class SphSolver final : public SphEngine {
     m_hi = hi;
     // Cells of h searched two deep: 125 h^3 (3D) for a support sphere of 33.5 h^3, instead of
     // 216 h^3 with cells of 2h.
-    m_cells.setGrid(neighbors::makeGrid<T>(lo, hi, T(s.h), Dim == 2, 2));
-    m_fluid_cells.setGrid(m_cells.grid());
+    m_cells.setGrid(neighbors::makeGrid<T>(lo, hi, T(s.h), Dim == 2, 2), 2);
     m_symplectic = s.integrator == "symplectic";
     m_evaluations_per_step = m_symplectic ? 2 : 1;
     withKernel([&](auto kernel) {
@@ -167,7 +169,7 @@ class SphSolver final : public SphEngine {
 
   double interactionsPerEvaluation() override {
     return backend::reduceSum<double>(Space{}, m_n,
-                                      CountInteractions<T>{m_cells.view(), m_fluid_cells.view(), m_pos.data(),
+                                      CountInteractions<T>{m_cells.view(0), m_cells.view(1), m_pos.data(),
                                                            m_code.data(), m_support2});
   }
 
@@ -258,6 +260,54 @@ class SphSolver final : public SphEngine {
       s.rho[h] = double(rho[i]);
       s.code[h] = code[i];
     }
+  }
+
+  void getRestartState(SphRestartState& s) const override {
+    getState(s.particles);
+    std::vector<int> id;
+    m_id.copyToHost(id);
+    if (m_body.size() > 0) {
+      std::vector<int> body;
+      m_body.copyToHost(body);
+      s.particles.body.assign(body.size(), 0);
+      for (std::size_t i = 0; i < body.size(); ++i) s.particles.body[static_cast<std::size_t>(id[i])] = body[i];
+      s.particles.offset = hostOrder(m_offset, id);
+    }
+    s.pos0 = m_has_moving ? hostOrder(m_pos0, id) : std::vector<double>{};
+    s.vel_m1 = m_symplectic ? std::vector<double>{} : hostOrder(m_vel_m1, id);
+    s.rho_m1.clear();
+    if (!m_symplectic) {
+      std::vector<T> rho;
+      m_rho_m1.copyToHost(rho);
+      s.rho_m1.assign(rho.size(), 0.0);
+      for (std::size_t i = 0; i < rho.size(); ++i) s.rho_m1[static_cast<std::size_t>(id[i])] = double(rho[i]);
+    }
+    s.step = m_step;
+    s.impulse = m_impulse;
+  }
+
+  void setRestartState(const SphRestartState& s) override {
+    setState(s.particles);  // host order: particle i is slot i
+    const std::size_t n = s.particles.size();
+    auto vec = [&](const std::vector<double>& a, const char* what) {
+      if (a.size() != 3 * n)
+        throw core::InputError(std::string("SPH restart: ") + what + " has " + std::to_string(a.size()) +
+                               " values for " + std::to_string(n) + " particles");
+      std::vector<Vec3<T>> v(n);
+      for (std::size_t i = 0; i < n; ++i) v[i] = {T(a[3 * i]), T(a[3 * i + 1]), Dim == 2 ? T(0) : T(a[3 * i + 2])};
+      return v;
+    };
+    if (m_has_moving) m_pos0.copyFromHost(vec(s.pos0, "the moving walls' reference positions"));
+    if (!m_symplectic) {
+      m_vel_m1.copyFromHost(vec(s.vel_m1, "Verlet's previous velocity"));
+      if (s.rho_m1.size() != n) throw core::InputError("SPH restart: Verlet's previous density does not match the particles");
+      m_rho_m1.copyFromHost(std::vector<T>(s.rho_m1.begin(), s.rho_m1.end()));
+    }
+    if (s.impulse.size() != static_cast<std::size_t>(m_bodies))
+      throw core::InputError("SPH restart: " + std::to_string(s.impulse.size()) + " body impulses for " +
+                             std::to_string(m_bodies) + " bodies");
+    m_step = s.step;
+    m_impulse = s.impulse;
   }
 
   void initialize(const SphMotion& now) override {
@@ -429,7 +479,8 @@ class SphSolver final : public SphEngine {
             {"sph.sps", m_strain.bytes() + m_tau.bytes()},
             {"sph.reorder_scratch", m_scratch_vec.bytes() + m_scratch_real.bytes() + m_scratch_int.bytes() +
                                         m_scratch_sym.bytes()},
-            {"neighbors", m_cells.bytes() + m_fluid_cells.bytes()}};
+            {"neighbors", m_cells.bytes()},
+            {"sph.pair_rows", m_pair_scatter.bytes()}};
   }
 
  private:
@@ -439,6 +490,18 @@ class SphSolver final : public SphEngine {
   };
 
   static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
+
+  // A per-particle vector array in host order (3 doubles per particle).
+  static std::vector<double> hostOrder(const backend::Array<Space, Vec3<T>>& a, const std::vector<int>& id) {
+    std::vector<Vec3<T>> v;
+    a.copyToHost(v);
+    std::vector<double> out(3 * v.size(), 0.0);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::size_t h = 3 * static_cast<std::size_t>(id[i]);
+      out[h] = double(v[i].x), out[h + 1] = double(v[i].y), out[h + 2] = double(v[i].z);
+    }
+    return out;
+  }
 
   // Every verlet_steps-th Verlet step is an Euler step (re-couples the leap-frog chains).
   bool verletEulerStep() const { return m_setup.verlet_steps > 0 && (m_step + 1) % m_setup.verlet_steps == 0; }
@@ -503,7 +566,8 @@ class SphSolver final : public SphEngine {
 
   // Cell sort, renumbering of the particle state in cell order, pressure, interaction.
   void forces() {
-    m_cells.build(m_pos.data(), m_n, m_code.data(), kExcludedDensity);
+    // Fluid first, then walls and bodies, each in cell order; excluded particles last.
+    m_cells.build(m_pos.data(), m_n, m_code.data(), kExcludedDensity, kBoundFixed);
     const int* order = m_cells.view().order;
     gather(m_pos, m_scratch_vec, order);
     gather(m_vel, m_scratch_vec, order);
@@ -520,20 +584,35 @@ class SphSolver final : public SphEngine {
     gather(m_body, m_scratch_int, order);
     gather(m_offset, m_scratch_vec, order);
     m_cells.renumberedInOrder();
-    m_fluid_cells.build(m_pos.data(), m_n, m_code.data(), kBoundFixed);
     backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
     const SphView<T> p = view();
     withKernel([&](auto kernel) {
       if (m_wall_visc_vel.size() > 0)
         backend::parallelFor(
             Space{}, m_n,
-            WallNoSlipVelocity<T, decltype(kernel)>{m_fluid_cells.view(), m_pos.data(), m_vel.data(), m_code.data(),
+            WallNoSlipVelocity<T, decltype(kernel)>{m_cells.view(0), m_pos.data(), m_vel.data(), m_code.data(),
                                                     kernel, m_support2, m_wall_visc_vel.data()});
       withDdt([&](auto ddt) {
         withVisc([&](auto visc) {
           withShift([&](auto shift) {
-            using Interaction = SphInteraction<T, decltype(kernel), decltype(ddt), decltype(visc), decltype(shift)::value>;
-            backend::parallelFor(Space{}, m_n, Interaction{m_cells.view(), m_fluid_cells.view(), p, kernel, ddt, visc, m_mass, m_support2, m_eta2, m_up});
+            using Physics = SphPairPhysics<T, decltype(kernel), decltype(ddt), decltype(visc), decltype(shift)::value>;
+            const Physics phys{kernel, ddt, visc, m_mass, m_eta2, m_up};
+            if constexpr (std::is_same_v<Space, backend::Omp>) {
+              // Host: each pair once, the partner's share scattered (about half the pair work of
+              // visiting both sides, and wall particles search nothing).
+              constexpr bool kShift = Physics::kShifting, kStrain = Physics::kStrain;
+              backend::parallelFor(Space{}, m_n, ClearPairSums<T, kShift, kStrain>{p});
+              m_pair_scatter.template run<kShift, kStrain>(m_cells.view(0), m_cells.view(1), m_pos.data(), p,
+                                                           [&](auto sink) {
+                                                             return SphPairInteraction<Physics, decltype(sink)>{
+                                                                 m_cells.view(0), m_cells.view(1), p, phys, m_support2,
+                                                                 sink};
+                                                           });
+            } else {
+              // GPU: every particle gathers its own sums (no atomics).
+              backend::parallelFor(Space{}, m_n,
+                                   SphInteraction<Physics>{m_cells.view(0), m_cells.view(1), p, phys, m_support2});
+            }
           });
         });
       });
@@ -554,7 +633,8 @@ class SphSolver final : public SphEngine {
   double m_g_abs = 0;
   TaitEos<T> m_eos;
   Vec3<T> m_gravity{}, m_up{}, m_lo{}, m_hi{};
-  neighbors::CellList<Space, T> m_cells, m_fluid_cells;
+  neighbors::CellList<Space, T> m_cells;  // two segments: fluid, then walls and bodies
+  SphPairScatter<T> m_pair_scatter;  // host pair loop: rows for partners across thread chunks
   backend::Array<Space, Vec3<T>> m_pos, m_vel, m_pos0, m_vel_m1, m_pos_pre, m_vel_pre, m_ace, m_shift_grad;
   backend::Array<Space, Vec3<T>> m_wall_visc_vel;  // wall_velocity = no_slip only
   backend::Array<Space, T> m_rho, m_rho_m1, m_rho_pre, m_press, m_drho, m_visc, m_shift_div;

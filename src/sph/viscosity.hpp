@@ -42,7 +42,7 @@ struct ViscosityArtificial {
   static constexpr const char* kName = "artificial";
   static constexpr bool kNeedsStrain = false;
   T alpha = 0.1, alpha_bound = 0.1, h = 0, c0 = 0, eta2 = 0;
-  MILLSIM_HD Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool bound,
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool bound,
                                 const Sym3<T>&, const Sym3<T>&) const {
     const T vr = core::dot(v_ab, r_ab);
     if (vr >= T(0)) return core::zero3<T>();
@@ -57,7 +57,7 @@ struct ViscosityLaminarSps {
   static constexpr const char* kName = "laminar_sps";
   static constexpr bool kNeedsStrain = true;
   T nu = 1e-6, eta2 = 0;
-  MILLSIM_HD Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool /*bound*/,
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool /*bound*/,
                                 const Sym3<T>& tau_a, const Sym3<T>& tau_b) const {
     const T lam = m_b * T(4) * nu * fac * r2 / ((rho_a + rho_b) * (r2 + eta2));
     const Sym3<T> t{tau_a.xx + tau_b.xx, tau_a.yy + tau_b.yy, tau_a.zz + tau_b.zz,
@@ -69,7 +69,7 @@ struct ViscosityLaminarSps {
 // Velocity gradient of particle a accumulated over its neighbours: grad v ~ sum_b V_b (v_b -
 // v_a) (x) grad_a W_ab, stored as the symmetric strain rate S = (grad v + grad v^T) / 2.
 template <class T>
-MILLSIM_HD inline void addStrain(Sym3<T>& s, Vec3<T> v_ba, Vec3<T> grad_w, T vol_b) {
+MILLSIM_HD MILLSIM_FORCE_INLINE void addStrain(Sym3<T>& s, Vec3<T> v_ba, Vec3<T> grad_w, T vol_b) {
   s.xx += vol_b * v_ba.x * grad_w.x;
   s.yy += vol_b * v_ba.y * grad_w.y;
   s.zz += vol_b * v_ba.z * grad_w.z;

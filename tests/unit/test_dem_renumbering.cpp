@@ -146,6 +146,8 @@ TEST(DemRenumbering, ResultDoesNotDependOnInputNumbering) {
       reversed.pos[3 * rev(i) + q] = start.pos[3 * i + q];
       reversed.vel[3 * rev(i) + q] = start.vel[3 * i + q];
       reversed.omega[3 * rev(i) + q] = start.omega[3 * i + q];
+      reversed.force[3 * rev(i) + q] = start.force[3 * i + q];
+      reversed.torque[3 * rev(i) + q] = start.torque[3 * i + q];
     }
     reversed.radius[rev(i)] = start.radius[i];
     reversed.mass[rev(i)] = start.mass[i];

@@ -15,3 +15,14 @@
 #else
 #define MILLSIM_INLINE inline
 #endif
+
+// Inlining that the compiler must not decline: the SPH pair terms are called from deep inside
+// the search lambdas, where GCC's heuristics left them as calls (the 2D pair loop spent more
+// time calling than computing).
+#if defined(__CUDACC__) || defined(__CUDA_ARCH__)
+#define MILLSIM_FORCE_INLINE __forceinline__
+#elif defined(__GNUC__)
+#define MILLSIM_FORCE_INLINE inline __attribute__((always_inline))
+#else
+#define MILLSIM_FORCE_INLINE inline
+#endif

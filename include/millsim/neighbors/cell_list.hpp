@@ -1,6 +1,6 @@
 #pragma once
 // Builds a CellListView on any execution space: key per particle -> sort (key, index) by key ->
-// cell ranges. All steps are functors run through the backend, so OpenMP and CUDA share them.
+// cell offsets. All steps are functors run through the backend, so OpenMP and CUDA share them.
 #include <cmath>
 #include <vector>
 
@@ -11,47 +11,49 @@ namespace millsim::neighbors {
 
 // Key of each particle: its cell, or `out_key` (one past the last cell, never searched) when
 // its code is >= skip_from (particles excluded from a run, which sort to the end).
+// With two segments, particles whose code is >= split_from (and below skip_from) take keys
+// cells + cell: they sort after all the others, each segment in cell order.
 template <class T>
 struct CellKeyFunctor {
   CellGrid<T> grid;
   const core::Vec3<T>* pos;
   const int* code;  // nullptr: every particle takes part
   int skip_from;
+  int split_from;
   int out_key;
   int* keys;
   int* order;
   MILLSIM_HD void operator()(int i) const {
-    keys[i] = code && code[i] >= skip_from ? out_key : grid.cellOf(pos[i]);
+    if (!code) {
+      keys[i] = grid.cellOf(pos[i]);
+    } else {
+      const int c = code[i];
+      keys[i] = c >= skip_from ? out_key : grid.cellOf(pos[i]) + (c >= split_from ? grid.cellCount() : 0);
+    }
     order[i] = i;
   }
 };
 
-struct CellRangeFunctor {
+// Cell offsets of the sorted keys (CSR): offsets[k] = first slot whose key is >= k, for k in
+// [0, cells]; an empty cell has offsets[k] == offsets[k + 1]. Run over s in [0, n]: slot s
+// writes the offsets of every key after the previous slot's, up to its own (slot n: up to
+// `cells`), so each offset is written once, whatever the gaps. Empty cells having an offset too
+// is what lets a search take a row of cells as one range without visiting each cell.
+struct CellOffsetsFunctor {
   const int* sorted_keys;
   int n;
-  int* cell_start;
-  int* cell_end;
-  int out_key;
+  int cells;  // = the out key: excluded particles sort after offsets[cells]
+  int* offsets;
   MILLSIM_HD void operator()(int s) const {
-    const int k = sorted_keys[s];
-    if (k == out_key) return;
-    if (s == 0 || sorted_keys[s - 1] != k) cell_start[k] = s;
-    if (s == n - 1 || sorted_keys[s + 1] != k) cell_end[k] = s + 1;
+    const int prev = s == 0 ? -1 : sorted_keys[s - 1];
+    const int cur = s == n ? cells : sorted_keys[s];
+    for (int k = prev + 1; k <= cur; ++k) offsets[k] = s;
   }
 };
 
 struct IdentityFunctor {
   int* order;
   MILLSIM_HD void operator()(int s) const { order[s] = s; }
-};
-
-struct ClearCellsFunctor {
-  int* cell_start;
-  int* cell_end;
-  MILLSIM_HD void operator()(int k) const {
-    cell_start[k] = 0;
-    cell_end[k] = 0;
-  }
 };
 
 // Grid covering [lo, hi] with cells of at least `cell`; searches visit `reach` cells on each
@@ -72,44 +74,54 @@ CellGrid<T> makeGrid(core::Vec3<T> lo, core::Vec3<T> hi, T cell, bool two_d, int
   return g;
 }
 
+// One sort for up to two segments of particles (SPH: fluid, then walls and bodies), each in cell
+// order with its own offsets; view(k) searches segment k alone.
 template <class Space, class T>
 class CellList {
  public:
-  void setGrid(const CellGrid<T>& grid) {
+  void setGrid(const CellGrid<T>& grid, int segments = 1) {
     m_grid = grid;
-    m_start.resize(static_cast<std::size_t>(grid.cellCount()));
-    m_end.resize(static_cast<std::size_t>(grid.cellCount()));
+    m_segments = segments;
+    m_offsets.resize(static_cast<std::size_t>(segments) * grid.cellCount() + 1);
   }
   const CellGrid<T>& grid() const { return m_grid; }
 
   void build(const core::Vec3<T>* pos, int n) { build(pos, n, nullptr, 0); }
 
   // As build(), leaving out particles whose code is >= skip_from: they sort to the end of the
-  // order and no search finds them.
-  void build(const core::Vec3<T>* pos, int n, const int* code, int skip_from) {
+  // order and no search finds them. With two segments, codes in [split_from, skip_from) form
+  // the second.
+  void build(const core::Vec3<T>* pos, int n, const int* code, int skip_from, int split_from = 0) {
     using backend::parallelFor;
     using backend::sortByKey;
     if (static_cast<int>(m_keys.size()) != n) {
       m_keys.resize(n);
       m_order.resize(n);
     }
-    const int out_key = m_grid.cellCount();
-    parallelFor(Space{}, n, CellKeyFunctor<T>{m_grid, pos, code, skip_from, out_key, m_keys.data(), m_order.data()});
+    const int split = m_segments > 1 ? split_from : skip_from;
+    const int out_key = m_segments * m_grid.cellCount();
+    parallelFor(Space{}, n,
+                CellKeyFunctor<T>{m_grid, pos, code, skip_from, split, out_key, m_keys.data(), m_order.data()});
     sortByKey(Space{}, m_keys.data(), m_order.data(), n, out_key + 1, m_scratch);
-    parallelFor(Space{}, m_grid.cellCount(), ClearCellsFunctor{m_start.data(), m_end.data()});
-    parallelFor(Space{}, n, CellRangeFunctor{m_keys.data(), n, m_start.data(), m_end.data(), out_key});
+    parallelFor(Space{}, n + 1, CellOffsetsFunctor{m_keys.data(), n, out_key, m_offsets.data()});
   }
 
   // After the caller renumbered its particles by the sorted order of the last build(), the
   // cells stay valid and slot s now holds particle s.
   void renumberedInOrder() { backend::parallelFor(Space{}, static_cast<int>(m_order.size()), IdentityFunctor{m_order.data()}); }
 
-  CellListView<T> view() const { return {m_grid, m_order.data(), m_start.data(), m_end.data()}; }
-  std::size_t bytes() const { return m_keys.bytes() + m_order.bytes() + m_start.bytes() + m_end.bytes(); }
+  // Cell k of segment g holds slots [offsets[g cells + k], offsets[g cells + k + 1]): the view's
+  // cell_end is its cell_start shifted by one.
+  CellListView<T> view(int segment = 0) const {
+    const int* start = m_offsets.data() + static_cast<std::size_t>(segment) * m_grid.cellCount();
+    return {m_grid, m_order.data(), start, start + 1};
+  }
+  std::size_t bytes() const { return m_keys.bytes() + m_order.bytes() + m_offsets.bytes(); }
 
  private:
   CellGrid<T> m_grid{};
-  backend::Array<Space, int> m_keys, m_order, m_start, m_end;
+  int m_segments = 1;
+  backend::Array<Space, int> m_keys, m_order, m_offsets;
   std::vector<int> m_scratch;
 };
 

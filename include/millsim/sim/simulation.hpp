@@ -43,6 +43,7 @@ struct RunSummary {
   // y = c0 + c1 x + c2 x^2 (mm, front view, origin on the drum axis).
   std::size_t sph_particles = 0;
   long long sph_excluded = 0, sph_steps = 0;
+  double slurry_kinetic = 0, slurry_potential = 0;  // of the slurry at the end, J
   int slurry_frames = 0;
   bool slurry_valid = false;
   std::array<double, 3> slurry_coef{};
