@@ -97,24 +97,15 @@ class PartnerScatter<backend::Omp, T> {
     if (m_rows.size() != rows) m_rows.assign(rows, PartnerRow<T>{});  // only when n or threads change
     m_touched.assign(static_cast<std::size_t>(threads), Touched{});
     const int chunk = (n + threads - 1) / threads;
-#ifdef _OPENMP
-#pragma omp parallel num_threads(threads)
-#endif
-    {
-      // Chunk k by team member k (and k + team size, ... should OpenMP give fewer threads than
-      // asked, e.g. with OMP_DYNAMIC): every chunk is done once, whatever the team.
-#ifdef _OPENMP
-      const int first = omp_get_thread_num(), stride = omp_get_num_threads();
-#else
-      const int first = 0, stride = 1;
-#endif
-      for (int k = first; k < threads; k += stride) {
-        const int lo = std::min(n, k * chunk), hi = std::min(n, lo + chunk);
-        const auto loop = make(ChunkRowsSink<T>{targets, m_rows.data() + static_cast<std::size_t>(k) * n, hi,
-                                                &m_touched[static_cast<std::size_t>(k)].index});
-        for (int i = lo; i < hi; ++i) loop(i);
-      }
-    }
+    backend::forEachChunk(
+        backend::Omp{}, threads,
+        [&](int k) {
+          const int lo = std::min(n, k * chunk), hi = std::min(n, lo + chunk);
+          const auto loop = make(ChunkRowsSink<T>{targets, m_rows.data() + static_cast<std::size_t>(k) * n, hi,
+                                                  &m_touched[static_cast<std::size_t>(k)].index});
+          for (int i = lo; i < hi; ++i) loop(i);
+        },
+        [](int) {});
     // The rows past each chunk's end into the sums, cleared for the next pass (serial: the
     // windows are a few cell layers long).
     for (int k = 0; k < threads; ++k) {

@@ -110,29 +110,16 @@ class SphPairScatter {
       m_rows.assign(static_cast<std::size_t>(threads), {});
     }
     window(threads, fluid, walls, fluid_end, pos);
-#ifdef _OPENMP
-#pragma omp parallel num_threads(threads)
-#endif
-    {
-      // Chunk k by team member k (and k + team size, ... should OpenMP give fewer threads than
-      // asked): every chunk is done once, whatever the team.
-#ifdef _OPENMP
-      const int first = omp_get_thread_num(), stride = omp_get_num_threads();
-#else
-      const int first = 0, stride = 1;
-#endif
-      for (int k = first; k < threads; k += stride) {
-        const Chunk& c = m_chunks[static_cast<std::size_t>(k)];
-        const auto loop = make(SphChunkSink<T, kShift, kStrain>{p, m_rows[static_cast<std::size_t>(k)].data(), c.hi,
-                                                                fluid_end, c.own_lo, c.own_hi, c.wall_lo,
-                                                                c.fluid_hi - c.hi, c.own_lo - c.wall_lo});
-        for (int a = c.lo; a < c.hi; ++a) loop(a);
-      }
-#ifdef _OPENMP
-#pragma omp barrier
-#endif
-      for (int k = first; k < threads; k += stride) gatherRows<kShift, kStrain>(k, p);
-    }
+    backend::forEachChunk(
+        backend::Omp{}, threads,
+        [&](int k) {
+          const Chunk& c = m_chunks[static_cast<std::size_t>(k)];
+          const auto loop = make(SphChunkSink<T, kShift, kStrain>{p, m_rows[static_cast<std::size_t>(k)].data(), c.hi,
+                                                                  fluid_end, c.own_lo, c.own_hi, c.wall_lo,
+                                                                  c.fluid_hi - c.hi, c.own_lo - c.wall_lo});
+          for (int a = c.lo; a < c.hi; ++a) loop(a);
+        },
+        [&](int k) { gatherRows<kShift, kStrain>(k, p); });
   }
 
   std::size_t bytes() const {

@@ -7,6 +7,10 @@
 #include <utility>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace millsim::backend {
 
 struct Omp {
@@ -40,6 +44,29 @@ class Array<Omp, T> {
  private:
   std::vector<T> m_data;
 };
+
+// Runs chunk(k) for every k in [0, chunks) on a team of `chunks` threads, chunk k by team member
+// k (and k + team size, ... should OpenMP give fewer threads than asked, e.g. with OMP_DYNAMIC):
+// every chunk is done once, whatever the team. Then, after a barrier, after(k) for every k the
+// same way (a pass that reads what all chunks wrote).
+template <class Chunk, class After>
+void forEachChunk(Omp, int chunks, const Chunk& chunk, const After& after) {
+#ifdef _OPENMP
+#pragma omp parallel num_threads(chunks)
+#endif
+  {
+#ifdef _OPENMP
+    const int first = omp_get_thread_num(), stride = omp_get_num_threads();
+#else
+    const int first = 0, stride = 1;
+#endif
+    for (int k = first; k < chunks; k += stride) chunk(k);
+#ifdef _OPENMP
+#pragma omp barrier
+#endif
+    for (int k = first; k < chunks; k += stride) after(k);
+  }
+}
 
 template <class F>
 void parallelFor(Omp, int n, const F& f) {

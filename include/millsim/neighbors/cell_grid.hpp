@@ -52,18 +52,13 @@ struct CellListView {
   // Calls f(j) for every particle j in the cells adjacent to p (including p's own cell).
   template <class F>
   MILLSIM_HD void forEachCandidate(core::Vec3<T> p, F&& f) const {
-    int cx, cy, cz;
-    grid.cellCoords(p, cx, cy, cz);
-    const int r = grid.reach;
-    const int z0 = cz > r ? cz - r : 0, z1 = cz + r < grid.nz ? cz + r : grid.nz - 1;
-    const int y0 = cy > r ? cy - r : 0, y1 = cy + r < grid.ny ? cy + r : grid.ny - 1;
-    const int x0 = cx > r ? cx - r : 0, x1 = cx + r < grid.nx ? cx + r : grid.nx - 1;
-    for (int z = z0; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y) {
+    const Block b = blockAround(p);
+    for (int z = b.z0; z <= b.z1; ++z)
+      for (int y = b.y0; y <= b.y1; ++y) {
         // Cells x0..x1 of a row are contiguous in key order, and so are their particles: the
         // row is one range of slots (empty cells have offsets too, cell_list.hpp).
-        const int end = cell_end[grid.key(x1, y, z)];
-        for (int s = cell_start[grid.key(x0, y, z)]; s < end; ++s) f(order[s]);
+        const int end = cell_end[grid.key(b.x1, y, z)];
+        for (int s = cell_start[grid.key(b.x0, y, z)]; s < end; ++s) f(order[s]);
       }
   }
 
@@ -71,15 +66,9 @@ struct CellListView {
   // d = p - pos[j] (the point itself included, at r2 = 0), in the order of forEachCandidate.
   template <class F>
   MILLSIM_HD void forEachWithin(core::Vec3<T> p, T radius2, const core::Vec3<T>* pos, F&& f) const {
-    int cx, cy, cz;
-    grid.cellCoords(p, cx, cy, cz);
-    const int r = grid.reach;
-    const int z0 = cz > r ? cz - r : 0, z1 = cz + r < grid.nz ? cz + r : grid.nz - 1;
-    const int y0 = cy > r ? cy - r : 0, y1 = cy + r < grid.ny ? cy + r : grid.ny - 1;
-    const int x0 = cx > r ? cx - r : 0, x1 = cx + r < grid.nx ? cx + r : grid.nx - 1;
-    for (int z = z0; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y)
-        scanRow(cell_start[grid.key(x0, y, z)], cell_end[grid.key(x1, y, z)], p, radius2, pos, f);
+    const Block b = blockAround(p);
+    for (int z = b.z0; z <= b.z1; ++z)
+      for (int y = b.y0; y <= b.y1; ++y) scanRow(b, y, z, p, radius2, pos, f);
   }
 
   // The same for the particles numbered after `self`, the slot of p in a renumbered list
@@ -88,18 +77,33 @@ struct CellListView {
   // p's own row from self + 1: about half the block.
   template <class F>
   MILLSIM_HD void forEachWithinAfter(int self, core::Vec3<T> p, T radius2, const core::Vec3<T>* pos, F&& f) const {
-    int cx, cy, cz;
-    grid.cellCoords(p, cx, cy, cz);
+    const Block b = blockAround(p);
+    scanSlots(self + 1, cell_end[grid.key(b.x1, b.cy, b.cz)], p, radius2, pos, f);
+    for (int y = b.cy + 1; y <= b.y1; ++y) scanRow(b, y, b.cz, p, radius2, pos, f);
+    for (int z = b.cz + 1; z <= b.z1; ++z)
+      for (int y = b.y0; y <= b.y1; ++y) scanRow(b, y, z, p, radius2, pos, f);
+  }
+
+  // The block of cells searched around p: its own cell (cx, cy, cz) and reach cells each way,
+  // cut at the grid's faces.
+  struct Block {
+    int cx, cy, cz, x0, x1, y0, y1, z0, z1;
+  };
+  MILLSIM_HD Block blockAround(core::Vec3<T> p) const {
+    Block b;
+    grid.cellCoords(p, b.cx, b.cy, b.cz);
     const int r = grid.reach;
-    const int z1 = cz + r < grid.nz ? cz + r : grid.nz - 1;
-    const int y0 = cy > r ? cy - r : 0, y1 = cy + r < grid.ny ? cy + r : grid.ny - 1;
-    const int x0 = cx > r ? cx - r : 0, x1 = cx + r < grid.nx ? cx + r : grid.nx - 1;
-    scanRow(self + 1, cell_end[grid.key(x1, cy, cz)], p, radius2, pos, f);
-    for (int y = cy + 1; y <= y1; ++y)
-      scanRow(cell_start[grid.key(x0, y, cz)], cell_end[grid.key(x1, y, cz)], p, radius2, pos, f);
-    for (int z = cz + 1; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y)
-        scanRow(cell_start[grid.key(x0, y, z)], cell_end[grid.key(x1, y, z)], p, radius2, pos, f);
+    b.z0 = b.cz > r ? b.cz - r : 0, b.z1 = b.cz + r < grid.nz ? b.cz + r : grid.nz - 1;
+    b.y0 = b.cy > r ? b.cy - r : 0, b.y1 = b.cy + r < grid.ny ? b.cy + r : grid.ny - 1;
+    b.x0 = b.cx > r ? b.cx - r : 0, b.x1 = b.cx + r < grid.nx ? b.cx + r : grid.nx - 1;
+    return b;
+  }
+
+  // The candidates of row (y, z) of the block within the radius.
+  template <class F>
+  MILLSIM_HD MILLSIM_FORCE_INLINE void scanRow(const Block& b, int y, int z, core::Vec3<T> p, T radius2,
+                                               const core::Vec3<T>* pos, F& f) const {
+    scanSlots(cell_start[grid.key(b.x0, y, z)], cell_end[grid.key(b.x1, y, z)], p, radius2, pos, f);
   }
 
   // The candidates in slots [begin, end) within the radius. On the host they are first filtered
@@ -109,7 +113,8 @@ struct CellListView {
   // trimming the rows to the support sphere's chord was slower, its per-row square root costing
   // more than the candidates it saved). On a GPU each thread tests and calls directly.
   template <class F>
-  MILLSIM_HD MILLSIM_FORCE_INLINE void scanRow(int begin, int end, core::Vec3<T> p, T radius2, const core::Vec3<T>* pos, F& f) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE void scanSlots(int begin, int end, core::Vec3<T> p, T radius2,
+                                                 const core::Vec3<T>* pos, F& f) const {
 #ifdef __CUDA_ARCH__
     for (int s = begin; s < end; ++s) {
       const int j = order[s];
