@@ -1,10 +1,13 @@
 // DEM throughput: particle-steps per second of the drum engine for a settled-ish random charge
-// of N equal balls in a rotating drum (OpenMP), as spheres and as the paper's DCDEM balls
+// of N equal balls in a rotating drum, as spheres (OpenMP or CUDA) and as the paper's DCDEM balls
 // (elements at dp = 5 mm). Run: build/bench/millsim_bench.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
+
+#include "bench_common.hpp"
 
 #include "dem/contact/damping.hpp"
 #include "dem/dcdem_bodies.hpp"
@@ -59,11 +62,18 @@ DrumScene drumScene(int n, double r) {
 
 }  // namespace
 
+// Args: N, single precision (0/1), backend (0 OpenMP, 1 CUDA; skipped without a device).
 static void BM_DemDrumStep(benchmark::State& state) {
+  const bool cuda = state.range(2) != 0;
+  if (!bench::backendAvailable(state, cuda)) return;
   DrumScene sc = drumScene(static_cast<int>(state.range(0)), 0.005);
   const dem::DemHostState& s = sc.balls;
   dem::DrumState& drum = sc.drum;
-  auto engine = dem::makeDemEngineOmp(sc.setup, state.range(1) != 0);
+  std::unique_ptr<dem::DemEngine> engine;
+#if defined(MILLSIM_HAVE_CUDA)
+  if (cuda) engine = dem::makeDemEngineCuda(sc.setup, state.range(1) != 0);
+#endif
+  if (!engine) engine = dem::makeDemEngineOmp(sc.setup, state.range(1) != 0);
   engine->setState(s);
   engine->initialize(drum);
   const double dt = 1e-5;
@@ -76,12 +86,25 @@ static void BM_DemDrumStep(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(s.radius.size()) * state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_DemDrumStep)
-    ->Args({1000, 0})
-    ->Args({10000, 0})
-    ->Args({10000, 1})
-    ->Args({50000, 0})
-    ->Args({200000, 0})
+    ->Args({1000, 0, 0})
+    ->Args({10000, 0, 0})
+    ->Args({10000, 1, 0})
+    ->Args({50000, 0, 0})
+    ->Args({200000, 0, 0})
     ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+// Scaling with N on both backends (issue 10: 1e4 .. 1e6, 1e7 on the GPU), float.
+BENCHMARK(BM_DemDrumStep)
+    ->Name("BM_DemScaling")
+    ->Args({10000, 1, 0})
+    ->Args({100000, 1, 0})
+    ->Args({1000000, 1, 0})
+    ->Args({10000, 1, 1})
+    ->Args({100000, 1, 1})
+    ->Args({1000000, 1, 1})
+    ->Args({10000000, 1, 1})
+    ->Unit(benchmark::kMicrosecond)
+    ->MinTime(1.0)
     ->UseRealTime();
 
 // The paper's balls: 35 mm balls of 123 elements at dp = 5 mm (docs/cases.md, DCDEM balls);

@@ -100,7 +100,7 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   m_particles = st.size();
   makeEngine(options);
   m_engine->setState(st);
-  m_coupling = std::make_unique<SphDemCoupling>(m_balls);
+  m_coupling = std::make_unique<coupling::SphDemCoupling>(m_balls);
   m_coupling->initialize(*m_engine, balls, motionAt(phi, 0.0));
 }
 
@@ -216,7 +216,7 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const io::Ch
   m_particles = n;
   makeEngine(options);
   m_engine->setRestartState(s);
-  m_coupling = std::make_unique<SphDemCoupling>(m_balls);
+  m_coupling = std::make_unique<coupling::SphDemCoupling>(m_balls);
   m_coupling->initialize(*m_engine, balls, motionAt(phi, omega));
 }
 

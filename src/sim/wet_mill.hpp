@@ -29,7 +29,7 @@
 #include "millsim/sim/simulation.hpp"
 #include "millsim/vision/slurry_surface.hpp"
 #include "sim/drum_motion.hpp"
-#include "sim/sph_dem_coupling.hpp"
+#include "coupling/sph_dem_coupling.hpp"
 #include "sph/sph_engine.hpp"
 
 namespace millsim::sim {
@@ -68,7 +68,7 @@ class WetMill {
   scene::Scene m_scene;
   sph::SphSetup m_setup;
   std::unique_ptr<sph::SphEngine> m_engine;
-  std::unique_ptr<SphDemCoupling> m_coupling;
+  std::unique_ptr<coupling::SphDemCoupling> m_coupling;
   std::size_t m_particles = 0, m_balls = 0;
   long long m_fluid0 = 0, m_steps = 0;
   double m_phi0 = 0, m_t0 = 0;

@@ -251,6 +251,44 @@ struct PlaceBodyParticles {
   }
 };
 
+// Slot of each particle by host number, after a renumbering (BodyLoadSum finds a body's
+// particles through it).
+struct SlotOfId {
+  const int* id;
+  int* slot_of;
+  MILLSIM_HD void operator()(int i) const { slot_of[id[i]] = i; }
+};
+
+// The fluid's force and torque (about the centre) on body k: the sum of m a over its particles,
+// which hold the pair forces from the fluid only (bodies are boundary particles: no gravity, and
+// boundary pairs are not evaluated). One body per thread, its particles summed in host-number
+// order (members[start[k] .. start[k + 1]), fixed at set-up), in double: the result is the same
+// whatever the cell order, so a restarted run sums exactly as the straight one, and no per-step
+// copy of the particle arrays to the host is needed.
+template <class T>
+struct BodyLoadSum {
+  const int* start;
+  const int* members;
+  const int* slot_of;
+  const Vec3<T>* ace;
+  const Vec3<T>* offset;
+  T mass;
+  Vec3<double>* force;
+  Vec3<double>* torque;
+  MILLSIM_HD void operator()(int k) const {
+    Vec3<double> f{0, 0, 0}, tq{0, 0, 0};
+    for (int m = start[k]; m < start[k + 1]; ++m) {
+      const int i = slot_of[members[m]];
+      const Vec3<T> fi = mass * ace[i];
+      const Vec3<T> ti = core::cross(offset[i], fi);
+      f += Vec3<double>{double(fi.x), double(fi.y), double(fi.z)};
+      tq += Vec3<double>{double(ti.x), double(ti.y), double(ti.z)};
+    }
+    force[k] = f;
+    torque[k] = tq;
+  }
+};
+
 // Shared by the integrators: limits that exclude a fluid particle, and the shifting displacement.
 template <class T>
 struct FluidChecks {

@@ -198,6 +198,7 @@ class SphSolver final : public SphEngine {
       }
       m_body.copyFromHost(s.body);
       m_offset.copyFromHost(offset);
+      setBodyMembers(s);
     }
     m_pos.copyFromHost(pos);
     m_vel.copyFromHost(vel);
@@ -430,19 +431,16 @@ class SphSolver final : public SphEngine {
   std::vector<SphBodyLoad> bodyLoads() const override {
     std::vector<SphBodyLoad> loads(static_cast<std::size_t>(m_bodies));
     if (m_bodies == 0) return loads;
-    std::vector<Vec3<T>> ace, offset;
-    std::vector<int> body, code;
-    m_ace.copyToHost(ace);
-    m_offset.copyToHost(offset);
-    m_body.copyToHost(body);
-    m_code.copyToHost(code);
-    for (std::size_t i = 0; i < body.size(); ++i) {
-      if (code[i] != kBoundBody || body[i] < 0) continue;
-      const Vec3<T> f = m_mass * ace[i];
-      const Vec3<T> tq = core::cross(offset[i], f);
-      SphBodyLoad& l = loads[static_cast<std::size_t>(body[i])];
-      l.force[0] += double(f.x), l.force[1] += double(f.y), l.force[2] += double(f.z);
-      l.torque[0] += double(tq.x), l.torque[1] += double(tq.y), l.torque[2] += double(tq.z);
+    // Summed where the particles live; only the per-body totals come back.
+    backend::parallelFor(Space{}, m_bodies,
+                         BodyLoadSum<T>{m_body_start.data(), m_body_members.data(), m_slot_of.data(), m_ace.data(),
+                                        m_offset.data(), m_mass, m_load_force.data(), m_load_torque.data()});
+    std::vector<Vec3<double>> f, tq;
+    m_load_force.copyToHost(f);
+    m_load_torque.copyToHost(tq);
+    for (std::size_t k = 0; k < loads.size(); ++k) {
+      loads[k].force = {f[k].x, f[k].y, f[k].z};
+      loads[k].torque = {tq[k].x, tq[k].y, tq[k].z};
     }
     return loads;
   }
@@ -470,7 +468,8 @@ class SphSolver final : public SphEngine {
     return {{"sph.particles", m_pos.bytes() + m_vel.bytes() + m_rho.bytes() + m_code.bytes() + m_id.bytes() +
                                   m_pos0.bytes()},
             {"sph.bodies", m_body.bytes() + m_offset.bytes() + m_body_pos.bytes() + m_body_vel.bytes() +
-                               m_body_omega.bytes()},
+                               m_body_omega.bytes() + m_body_start.bytes() + m_body_members.bytes() +
+                               m_slot_of.bytes() + m_load_force.bytes() + m_load_torque.bytes()},
             {"sph.integrator", m_vel_m1.bytes() + m_rho_m1.bytes() + m_pos_pre.bytes() + m_vel_pre.bytes() +
                                    m_rho_pre.bytes()},
             {"sph.forces",
@@ -515,6 +514,26 @@ class SphSolver final : public SphEngine {
   BoundaryMotion<T> motionOf(const SphMotion& m) const {
     const Vec3<T> c = toVec(m_setup.motion_center);
     return {c, T(std::cos(m.theta)), T(std::sin(m.theta)), T(m.omega)};
+  }
+
+  // Each body's particles by host number (the state's order; kept across renumberings).
+  void setBodyMembers(const SphHostState& s) {
+    const std::size_t n = s.size();
+    std::vector<int> start(static_cast<std::size_t>(m_bodies) + 1, 0), members, slot(n);
+    for (std::size_t i = 0; i < n; ++i)
+      if (s.code[i] == kBoundBody && s.body[i] >= 0) ++start[static_cast<std::size_t>(s.body[i]) + 1];
+    for (int k = 0; k < m_bodies; ++k) start[k + 1] += start[k];
+    members.resize(static_cast<std::size_t>(start.back()));
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      slot[i] = static_cast<int>(i);
+      if (s.code[i] == kBoundBody && s.body[i] >= 0) members[fill[s.body[i]]++] = static_cast<int>(i);
+    }
+    m_body_start.copyFromHost(start);
+    m_body_members.copyFromHost(members);
+    m_slot_of.copyFromHost(slot);
+    m_load_force.resize(static_cast<std::size_t>(m_bodies), Vec3<double>{0, 0, 0});
+    m_load_torque.resize(static_cast<std::size_t>(m_bodies), Vec3<double>{0, 0, 0});
   }
 
   void placeMovingBoundaries(const SphMotion& m) {
@@ -584,6 +603,7 @@ class SphSolver final : public SphEngine {
     gather(m_body, m_scratch_int, order);
     gather(m_offset, m_scratch_vec, order);
     m_cells.renumberedInOrder();
+    if (m_bodies > 0) backend::parallelFor(Space{}, m_n, SlotOfId{m_id.data(), m_slot_of.data()});
     backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
     const SphView<T> p = view();
     withKernel([&](auto kernel) {
@@ -644,6 +664,10 @@ class SphSolver final : public SphEngine {
   backend::Array<Space, int> m_body;
   backend::Array<Space, Vec3<T>> m_offset, m_body_pos, m_body_vel, m_body_omega;
   std::vector<SphBodyLoad> m_impulse;  // per body, of the step begun last (bodyImpulses)
+  // Each body's particles by host number (CSR over bodies), the slot of every host number after
+  // the last renumbering, and the per-body sums of bodyLoads().
+  backend::Array<Space, int> m_body_start, m_body_members, m_slot_of;
+  mutable backend::Array<Space, Vec3<double>> m_load_force, m_load_torque;
   backend::Array<Space, Sym3<T>> m_strain, m_tau;
   backend::Array<Space, Vec3<T>> m_scratch_vec;
   backend::Array<Space, T> m_scratch_real;

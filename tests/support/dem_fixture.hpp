@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "dem/contact/damping.hpp"
@@ -26,7 +27,17 @@ struct DemScene {
   std::array<double, 3> gravity{0, 0, 0};
   bool single_precision = false;
   bool tanh = false;
+  bool cuda = false;  // the CUDA engine (tests/gpu); needs a CUDA build
 };
+
+// The scene's engine on its backend.
+inline std::unique_ptr<dem::DemEngine> makeDemEngine(const dem::DemSetup& setup, const DemScene& sc) {
+#if defined(MILLSIM_HAVE_CUDA)
+  if (sc.cuda) return dem::makeDemEngineCuda(setup, sc.single_precision);
+#endif
+  if (sc.cuda) throw std::runtime_error("DemScene::cuda: this build has no CUDA backend");
+  return dem::makeDemEngineOmp(setup, sc.single_precision);
+}
 
 inline double ballMass(double r, double rho) { return rho * 4.0 / 3.0 * std::acos(-1.0) * r * r * r; }
 
@@ -85,7 +96,7 @@ inline std::unique_ptr<dem::DemEngine> makeEngine(const DemScene& sc, const std:
   }
   setup.domain_lo = lo;
   setup.domain_hi = hi;
-  auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
+  auto engine = makeDemEngine(setup, sc);
   engine->setState(hostState(balls, sc.density));
   engine->initialize(stillDrum());
   return engine;
@@ -117,7 +128,7 @@ inline std::unique_ptr<dem::DemEngine> makeBodyEngine(const DemScene& sc, const 
   setup.max_radius = element_radius;
   setup.domain_lo = lo;
   setup.domain_hi = hi;
-  auto engine = dem::makeDemEngineOmp(setup, sc.single_precision);
+  auto engine = makeDemEngine(setup, sc);
   engine->setState(a.state());
   engine->setBodies(a.bodies());
   engine->initialize(stillDrum());

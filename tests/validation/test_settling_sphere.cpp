@@ -13,7 +13,7 @@
 // the SPS terms off: Cs = C_I = 0), D = 5 d (lambda = 0.2), closed column 20 d = 120 mm, the
 // sphere released 3 d below the lid and measured until its centre is 4 d above the bottom
 // (13 d of travel), Wendland, h = 0.8 sqrt(3) dp, shifting, Verlet, CFL 0.2. No gravity on the
-// fluid; the ball (a DEM ball driven by the wet mill's coupling, sim::SphDemCoupling) is pulled
+// fluid; the ball (a DEM ball driven by the wet mill's coupling, coupling::SphDemCoupling) is pulled
 // by its weight less its buoyancy. Expected: U_inf = 0.069 m/s at Re = 0.83, wall factor 0.618,
 // U_t = 0.043 m/s, relaxation time 12 ms. Reduced: R = 3 dp (dp = 1 mm); full size: R = 6 dp.
 //
@@ -51,7 +51,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/sph_dem_coupling.hpp"
+#include "coupling/sph_dem_coupling.hpp"
 #include "sph/geometry.hpp"
 #include "support/dem_fixture.hpp"
 #include "support/sph_fixture.hpp"
@@ -151,7 +151,7 @@ SettlingResult runSettling(const SettlingCase& c) {
   auto dem = testing::makeEngine(dsc, {testing::Ball{start[0], start[1], start[2], 0, 0, 0, r}});
   auto sph = sph::makeSphEngineOmp(s);
   sph->setState(st);
-  sim::SphDemCoupling coupling(1);
+  coupling::SphDemCoupling coupling(1);
   coupling.initialize(*sph, testing::state(*dem), {});
 
   const double z_stop = c.stop_above_bottom_d * c.d;

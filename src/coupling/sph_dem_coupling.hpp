@@ -22,7 +22,7 @@
 #include "dem/dem_engine.hpp"
 #include "sph/sph_engine.hpp"
 
-namespace millsim::sim {
+namespace millsim::coupling {
 
 class SphDemCoupling {
  public:
@@ -51,4 +51,4 @@ class SphDemCoupling {
   std::vector<std::array<double, 3>> m_held_impulse;
 };
 
-}  // namespace millsim::sim
+}  // namespace millsim::coupling

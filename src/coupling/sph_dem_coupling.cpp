@@ -1,10 +1,10 @@
-#include "sim/sph_dem_coupling.hpp"
+#include "coupling/sph_dem_coupling.hpp"
 
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-namespace millsim::sim {
+namespace millsim::coupling {
 
 SphDemCoupling::SphDemCoupling(std::size_t balls, std::vector<sph::SphBody> held)
     : m_balls(balls), m_held(std::move(held)), m_now(balls), m_held_impulse(m_held.size(), {0.0, 0.0, 0.0}) {}
@@ -65,4 +65,4 @@ double SphDemCoupling::advance(sph::SphEngine& sph, dem::DemEngine& dem,
   return dt;
 }
 
-}  // namespace millsim::sim
+}  // namespace millsim::coupling
