@@ -30,7 +30,7 @@ inline bool backendAvailable(benchmark::State& state, bool cuda) {
   if (!cuda) return true;
 #if defined(MILLSIM_HAVE_CUDA)
   if (backend::cudaDevices() > 0) return true;
-  state.SkipWithError("no CUDA device on this machine");
+  state.SkipWithError(("no CUDA device on this machine: " + backend::cudaStatus()).c_str());
 #else
   state.SkipWithError("built without CUDA");
 #endif

@@ -20,12 +20,18 @@ mkdir -p "$out"
 export LD_LIBRARY_PATH="$PWD/build/gpu_bundle${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 export MILLSIM_SOURCE_DIR="$PWD"
 threads=$(nproc)
+status=0
 { date -u; nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv 2>&1 || true; echo "cpu threads: $threads"; } |
   tee "$out/machine.txt"
 
-echo "== GPU tests (CUDA vs OpenMP)"
-OMP_NUM_THREADS=$threads timeout "${TESTS_S:-150}" build/tests/millsim_gpu_tests \
-  --gtest_output="json:$out/gpu_tests.json" 2>&1 | tee "$out/gpu_tests.txt" | grep -E '^\[|^T = |drift|Z/a'
+echo "== GPU tests (CUDA vs OpenMP; MILLSIM_CUDA_SYNC=1: a fault names its kernel)"
+MILLSIM_CUDA_SYNC=1 OMP_NUM_THREADS=$threads timeout "${TESTS_S:-150}" build/tests/millsim_gpu_tests \
+  --gtest_output="json:$out/gpu_tests.json" 2>&1 | tee "$out/gpu_tests.txt" | grep -E '^\[|^T = |drift|Z/a|Skipped|device'
+# On the GPU machine a skipped GPU test is a failure (the skip message says why: driver, no device).
+if grep -q '^\[  SKIPPED \]' "$out/gpu_tests.txt"; then
+  echo "!! GPU tests were SKIPPED: no usable CUDA device (see the skip message above)" | tee -a "$out/gpu_tests.txt"
+  status=1
+fi
 
 bench() {  # name, seconds, filter, extra env
   local name=$1 secs=$2 filter=$3
@@ -54,3 +60,4 @@ for path in sorted(glob.glob(os.path.join(sys.argv[1], "bench_*.json"))):
         print(f"{os.path.basename(path)} {b['name']}: N = {n:.0f}, {b['real_time']:.3g} {b['time_unit']}/step, "
               f"{b.get('particle_steps_per_s', 0):.3g} particle-steps/s, {b.get('fluid_steps_per_s', 0):.3g} fluid-steps/s")
 EOF
+exit $status

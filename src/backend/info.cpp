@@ -15,6 +15,7 @@ std::string resolvedBackend(const std::string& backend) {
 bool cudaCompiled() { return false; }
 int cudaDevices() { return 0; }
 std::string cudaDeviceName() { return ""; }
+std::string cudaStatus() { return "built without CUDA"; }
 bool selectCudaDevice(int) { return false; }
 #endif
 

@@ -18,6 +18,7 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/vision/front_view_angle.hpp"
+#include "sim/engine_factory.hpp"
 #include "sim/charge_setup.hpp"
 #include "sim/drum_motion.hpp"
 #include "sim/run_outputs.hpp"
@@ -119,19 +120,7 @@ struct Simulation::Impl {
     const double R = 0.5 * scene.drum.diameter, margin = 2 * charge.max_radius;
     setup.domain_lo = {-R - margin, -R - margin, -margin};
     setup.domain_hi = {R + margin, R + margin, charge.generation_length + margin};
-    const bool single = options.precision == "float";
-    std::string backend = options.backend;
-    if (backend == "auto") backend = backend::cudaDevices() > 0 ? "cuda" : "omp";
-    if (backend == "cuda") {
-#if defined(MILLSIM_HAVE_CUDA)
-      if (backend::cudaDevices() == 0) throw core::InputError("--backend cuda: no CUDA device found on this machine");
-      return dem::makeDemEngineCuda(setup, single);
-#else
-      throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
-#endif
-    }
-    if (backend != "omp") throw core::InputError("--backend " + backend + ": expected auto, omp or cuda");
-    return dem::makeDemEngineOmp(setup, single);
+    return makeDemEngine(setup, options);
   }
 
   vision::AngleOptions angleOptions() const {

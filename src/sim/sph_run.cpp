@@ -16,6 +16,7 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
+#include "sim/engine_factory.hpp"
 #include "sim/run_outputs.hpp"
 #include "sph/eos.hpp"
 #include "sph/geometry.hpp"
@@ -27,25 +28,9 @@ namespace fs = std::filesystem;
 
 SphRun::SphRun(const scene::Scene& scene, const RunOptions& options) : m_scene(scene), m_options(options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
-  if (options.precision != "double" && options.precision != "float")
-    throw core::InputError("--precision " + options.precision + ": expected double or float");
-  const bool single = options.precision == "float";
   m_setup = sphSetupOf(scene);
   m_probes = parseProbes(scene);
-  std::string backend = options.backend;
-  if (backend == "auto") backend = backend::cudaDevices() > 0 ? "cuda" : "omp";
-  if (backend == "cuda") {
-#if defined(MILLSIM_HAVE_CUDA)
-    if (backend::cudaDevices() == 0) throw core::InputError("--backend cuda: no CUDA device found on this machine");
-    m_engine = sph::makeSphEngineCuda(m_setup, single);
-#else
-    throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
-#endif
-  } else if (backend == "omp") {
-    m_engine = sph::makeSphEngineOmp(m_setup, single);
-  } else {
-    throw core::InputError("--backend " + backend + ": expected auto, omp or cuda");
-  }
+  m_engine = makeSphEngine(m_setup, options);
   const sph::SphHostState particles = sphParticlesOf(scene, m_setup);
   m_particles = particles.size();
   m_engine->setState(particles);

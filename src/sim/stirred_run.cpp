@@ -25,6 +25,7 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
+#include "sim/engine_factory.hpp"
 #include "sim/run_outputs.hpp"
 
 namespace millsim::sim {
@@ -235,19 +236,7 @@ struct StirredRun::Impl {
     const double R = 0.5 * scene.stirrer.chamber_diameter, margin = 4 * r_max;
     setup.domain_lo = {-R - margin, -R - margin, -margin};
     setup.domain_hi = {R + margin, R + margin, scene.stirrer.chamber_length + margin};
-    const bool single = options.precision == "float";
-    std::string backend = options.backend;
-    if (backend == "auto") backend = backend::cudaDevices() > 0 ? "cuda" : "omp";
-    if (backend == "cuda") {
-#if defined(MILLSIM_HAVE_CUDA)
-      if (backend::cudaDevices() == 0) throw core::InputError("--backend cuda: no CUDA device found on this machine");
-      return dem::makeDemEngineCuda(setup, single);
-#else
-      throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
-#endif
-    }
-    if (backend != "omp") throw core::InputError("--backend " + backend + ": expected auto, omp or cuda");
-    return dem::makeDemEngineOmp(setup, single);
+    return makeDemEngine(setup, options);
   }
 
   void checkEscaped(const dem::DemHostState& s) const {

@@ -11,6 +11,7 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/plot_png.hpp"
 #include "millsim/vision/slurry_curve.hpp"
+#include "sim/engine_factory.hpp"
 #include "sim/sph_run.hpp"
 #include "sph/eos.hpp"
 #include "sph/geometry.hpp"
@@ -115,15 +116,8 @@ void WetMill::setupSolver() {
 }
 
 void WetMill::makeEngine(const RunOptions& options) {
-  if (options.backend == "cuda") {
-#if defined(MILLSIM_HAVE_CUDA)
-    m_engine = sph::makeSphEngineCuda(m_setup);
-#else
-    throw core::InputError("--backend cuda: this millsim was built without CUDA (MILLSIM_CUDA=OFF or no nvcc)");
-#endif
-  } else {
-    m_engine = sph::makeSphEngineOmp(m_setup);
-  }
+  // The same backend and precision as the balls' engine (engine_factory resolves --backend auto).
+  m_engine = makeSphEngine(m_setup, options);
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "dem/contact/damping.hpp"
@@ -37,7 +38,7 @@ TEST(CudaVsOmp, SameStateAfterSettlingInRotatingDrum) {
 #if !defined(MILLSIM_HAVE_CUDA)
   GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
 #else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine: GPU comparison skipped";
+  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
   dem::DemSetup setup;
   setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(1e8, 0.29);
   setup.alpha = dem::dampingAlpha(dem::DampingModel::kExact, 0.39);
@@ -57,7 +58,8 @@ TEST(CudaVsOmp, SameStateAfterSettlingInRotatingDrum) {
   const auto start = pile(60);
   auto omp = dem::makeDemEngineOmp(setup, false);
   auto cuda = dem::makeDemEngineCuda(setup, false);
-  for (auto* e : {omp.get(), cuda.get()}) {
+  auto cuda2 = dem::makeDemEngineCuda(setup, false);  // the GPU against itself: its own spread
+  for (auto* e : {omp.get(), cuda.get(), cuda2.get()}) {
     e->setState(start);
     e->initialize(drum);
   }
@@ -66,15 +68,23 @@ TEST(CudaVsOmp, SameStateAfterSettlingInRotatingDrum) {
     drum.phi += drum.omega * dt;
     omp->step(drum, dt);
     cuda->step(drum, dt);
+    cuda2->step(drum, dt);
   }
-  dem::DemHostState a, b;
+  dem::DemHostState a, b, c;
   omp->getState(a);
   cuda->getState(b);
+  cuda2->getState(c);
   // 3000 steps of settling with many contacts: the two differ only by rounding (FMA contraction
-  // on the GPU), amplified by the contacts; 1e-9 m is 1e-7 of a ball radius.
-  double worst = 0;
-  for (std::size_t i = 0; i < a.pos.size(); ++i) worst = std::max(worst, std::abs(a.pos[i] - b.pos[i]));
-  EXPECT_LT(worst, 1e-9);
+  // on the GPU, the order of its atomic adds), amplified by the contacts; 1e-9 m is 1e-7 of a
+  // ball radius. The GPU's run-to-run spread is printed: a miss far above it is a bug, one of its
+  // size is rounding.
+  double worst = 0, spread = 0;
+  for (std::size_t i = 0; i < a.pos.size(); ++i) {
+    worst = std::max(worst, std::abs(a.pos[i] - b.pos[i]));
+    spread = std::max(spread, std::abs(b.pos[i] - c.pos[i]));
+  }
+  std::printf("drum: max |x_omp - x_cuda| = %.3g m, CUDA run-to-run %.3g m\n", worst, spread);
+  EXPECT_LT(worst, 1e-9) << "CUDA run-to-run spread " << spread << " m";
   EXPECT_NEAR(omp->sums().dissipated, cuda->sums().dissipated, 1e-6 * omp->sums().dissipated + 1e-15);
 #endif
 }
@@ -85,7 +95,7 @@ TEST(CudaVsOmp, SameStateInLubricatedStirredSlice) {
 #if !defined(MILLSIM_HAVE_CUDA)
   GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
 #else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine: GPU comparison skipped";
+  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
   dem::DemSetup setup;
   setup.linear_law = true;
   setup.linear_kn = 1e5;

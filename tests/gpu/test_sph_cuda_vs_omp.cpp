@@ -51,7 +51,7 @@ TEST(SphCudaVsOmp, DamBreak2dFrontWithinOnePercent) {
 #if !defined(MILLSIM_HAVE_CUDA)
   GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
 #else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine: GPU comparison skipped";
+  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
   const std::vector<double> omp = damBreakFront(false), cuda = damBreakFront(true);
   for (std::size_t k = 0; k < omp.size(); ++k) {
     std::printf("T = %.1f: Z/a OpenMP %.4f, CUDA %.4f\n", 0.5 * double(k + 1), omp[k], cuda[k]);
@@ -69,7 +69,7 @@ TEST(SphCudaVsOmp, WetCouplingMomentumClosedBox) {
 #if !defined(MILLSIM_HAVE_CUDA)
   GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
 #else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine: GPU comparison skipped";
+  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
   for (const char* integrator : {"verlet", "symplectic"}) {
     const millsim::testing::MomentumRun omp = millsim::testing::runBox(integrator, false, false);
     const millsim::testing::MomentumRun cuda = millsim::testing::runBox(integrator, false, true);

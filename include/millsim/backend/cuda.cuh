@@ -11,8 +11,10 @@
 #include <thrust/transform_reduce.h>
 #include <thrust/functional.h>
 
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -81,12 +83,24 @@ __global__ void forEachIndexKernel(int n, F f) {
   if (i < n) f(i);
 }
 
+// MILLSIM_CUDA_SYNC=1: every launch is waited for and checked, so a fault inside a kernel is
+// reported with that kernel's functor instead of at the next copy or reduction (slower; for a
+// first run on a new device or a hunt).
+inline bool cudaSyncEveryLaunch() {
+  static const bool on = [] {
+    const char* env = std::getenv("MILLSIM_CUDA_SYNC");
+    return env && std::string(env) == "1";
+  }();
+  return on;
+}
+
 template <class F>
 void parallelFor(Cuda, int n, const F& f) {
   if (n <= 0) return;
   constexpr int kBlock = 128;
   forEachIndexKernel<<<(n + kBlock - 1) / kBlock, kBlock>>>(n, f);
   cudaCheck(cudaGetLastError(), "kernel launch");
+  if (cudaSyncEveryLaunch()) cudaCheck(cudaDeviceSynchronize(), typeid(F).name());
 }
 
 template <class R, class F>

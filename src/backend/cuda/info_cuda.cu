@@ -1,5 +1,7 @@
 #include <cuda_runtime.h>
 
+#include <string>
+
 #include "millsim/backend/info.hpp"
 
 namespace millsim::backend {
@@ -12,6 +14,13 @@ int cudaDevices() {
   return count;
 }
 
+std::string cudaStatus() {
+  int count = 0;
+  const cudaError_t err = cudaGetDeviceCount(&count);
+  if (err != cudaSuccess) return cudaGetErrorString(err);
+  return std::to_string(count) + " device(s)";
+}
+
 bool selectCudaDevice(int index) {
   const int count = cudaDevices();
   if (count == 0 || index < 0) return false;
@@ -20,8 +29,10 @@ bool selectCudaDevice(int index) {
 
 std::string cudaDeviceName() {
   if (cudaDevices() == 0) return "";
+  int device = 0;
+  if (cudaGetDevice(&device) != cudaSuccess) return "";
   cudaDeviceProp prop{};
-  if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) return "";
+  if (cudaGetDeviceProperties(&prop, device) != cudaSuccess) return "";
   return prop.name;
 }
 
