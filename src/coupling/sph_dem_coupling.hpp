@@ -16,7 +16,6 @@
 //   J = bodyImpulses(); DEM over dt under J / dt; shells at the balls' new state; SPH step ends.
 #include <array>
 #include <cstddef>
-#include <functional>
 #include <vector>
 
 #include "dem/dem_engine.hpp"
@@ -35,20 +34,33 @@ class SphDemCoupling {
 
   // One coupled step. `half(dt)` gives the moving boundaries at mid-step; `dem_steps(dt)` advances
   // the DEM by dt (its own sub-steps, held loads already set) and returns the moving boundaries
-  // at the end. Returns dt.
-  double advance(sph::SphEngine& sph, dem::DemEngine& dem, const std::function<sph::SphMotion(double)>& half,
-                 const std::function<sph::SphMotion(double)>& dem_steps);
+  // at the end. Returns dt. (Callables, not std::function: a capturing lambda would allocate.)
+  template <class Half, class DemSteps>
+  double advance(sph::SphEngine& sph, dem::DemEngine& dem, Half&& half, DemSteps&& dem_steps) {
+    const double dt = sph.nextDt();
+    startStep(sph, dem, dt, half(dt));
+    finishStep(sph, dem, dt, dem_steps(dt));
+    return dt;
+  }
 
   // Impulse the fluid delivered to the held bodies since initialize(), N s (per held body).
   const std::vector<std::array<double, 3>>& heldImpulse() const { return m_held_impulse; }
 
  private:
-  void readBalls(const dem::DemHostState& s);
-  std::vector<sph::SphBody> bodiesAt(double lead) const;  // balls moved by lead x v, then held
+  // The step up to the DEM's sub-steps (fluid loads handed over), and from after them.
+  void startStep(sph::SphEngine& sph, dem::DemEngine& dem, double dt, const sph::SphMotion& half);
+  void finishStep(sph::SphEngine& sph, dem::DemEngine& dem, double dt, const sph::SphMotion& end);
+  void readBalls(const std::vector<double>& pos, const std::vector<double>& vel, const std::vector<double>& omega);
+  // The balls moved by lead x v, then the held bodies, in m_bodies.
+  const std::vector<sph::SphBody>& bodiesAt(double lead);
 
   std::size_t m_balls;
   std::vector<sph::SphBody> m_held, m_now;  // m_now: the balls at the start of the next step
   std::vector<std::array<double, 3>> m_held_impulse;
+  // Per-step buffers, sized at construction: a coupled step allocates nothing.
+  std::vector<sph::SphBody> m_bodies;
+  std::vector<double> m_force, m_torque;
+  dem::BallKinematics m_kinematics;
 };
 
 }  // namespace millsim::coupling

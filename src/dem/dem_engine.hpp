@@ -88,6 +88,13 @@ struct DemSums {
   double pair_contacts = 0;    // particle pairs overlapping now (coordination number = 2 x this / N)
 };
 
+// Positions, velocities and spins of the balls, 3 per ball in host order (per DCDEM body, in
+// body order, when the engine has bodies): what a coupling reads every step.
+struct BallKinematics {
+  std::vector<double> pos, vel, omega;
+  std::size_t size() const { return pos.size() / 3; }
+};
+
 class DemEngine {
  public:
   virtual ~DemEngine() = default;
@@ -111,6 +118,9 @@ class DemEngine {
   // and added every step. Their work is booked in
   // DemSums::work_external. Empty vectors switch them off.
   virtual void setExternalForces(const std::vector<double>& force, const std::vector<double>& torque) = 0;
+  // The balls' kinematics into `out` (resized; reused across steps, nothing else is copied: no
+  // history, no neighbour list, no allocation once sized).
+  virtual void ballKinematics(BallKinematics& out) const = 0;
   // Stirred mill: the same step with the stirrer's walls (and lubrication when set up).
   virtual void initialize(const StirrerState& walls) = 0;
   virtual void step(const StirrerState& walls, double dt) = 0;

@@ -508,13 +508,15 @@ class DemSolver final : public DemEngine {
       return;
     }
     if (force.empty() && !m_has_external) return;
-    std::vector<Vec3<T>> f(m_n, core::zero3<T>()), t(m_n, core::zero3<T>());
+    std::vector<Vec3<T>>&f = m_host_vec_a, &t = m_host_vec_b;
+    f.assign(m_n, core::zero3<T>());
+    t.assign(m_n, core::zero3<T>());
     if (!force.empty()) {
       if (force.size() != 3 * static_cast<std::size_t>(m_n) || torque.size() != force.size())
         throw std::invalid_argument("DemSolver::setExternalForces: expected 3 values per ball");
       for (int i = 0; i < m_n; ++i) {
-        f[i] = {T(force[3 * i]), T(force[3 * i + 1]), T(force[3 * i + 2])};
-        t[i] = {T(torque[3 * i]), T(torque[3 * i + 1]), T(torque[3 * i + 2])};
+        f[i] = get3(force, i);
+        t[i] = get3(torque, i);
       }
     }
     // The old load leaves the current force and the new one enters it (ReplaceHeldLoad); the
@@ -529,6 +531,31 @@ class DemSolver final : public DemEngine {
                                             m_ext_torque_old.data(), m_ext_force.data(), m_ext_torque.data()});
     if (m_work_external.size() != static_cast<std::size_t>(m_n)) m_work_external.resize(m_n, 0.0);
     m_has_external = !force.empty();
+  }
+
+  void ballKinematics(BallKinematics& out) const override {
+    const int n = m_nb > 0 ? m_nb : m_n;
+    out.pos.resize(3 * static_cast<std::size_t>(n));
+    out.vel.resize(out.pos.size());
+    out.omega.resize(out.pos.size());
+    std::vector<Vec3<T>>&x = m_host_vec_a, &v = m_host_vec_b, &w = m_host_vec_c;
+    if (m_nb > 0) {  // bodies are stored in body order
+      m_body_pos.copyToHost(x);
+      m_body_vel.copyToHost(v);
+      m_body_omega.copyToHost(w);
+    } else {  // particles in cell order: slot i holds host number id[i]
+      m_pos.copyToHost(x);
+      m_vel.copyToHost(v);
+      m_omega.copyToHost(w);
+      m_id.copyToHost(m_host_id);
+    }
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = 3 * static_cast<std::size_t>(m_nb > 0 ? i : m_host_id[i]);
+      const Vec3<T> xi = x[i], vi = v[i], wi = w[i];
+      out.pos[k] = double(xi.x), out.pos[k + 1] = double(xi.y), out.pos[k + 2] = double(xi.z);
+      out.vel[k] = double(vi.x), out.vel[k + 1] = double(vi.y), out.vel[k + 2] = double(vi.z);
+      out.omega[k] = double(wi.x), out.omega[k + 1] = double(wi.y), out.omega[k + 2] = double(wi.z);
+    }
   }
 
  private:
@@ -598,7 +625,9 @@ class DemSolver final : public DemEngine {
     if (force.empty() && !m_has_body_external) return;
     if (!force.empty() && (force.size() != 3 * static_cast<std::size_t>(m_nb) || torque.size() != force.size()))
       throw std::invalid_argument("DemSolver::setExternalForces: expected 3 values per body");
-    std::vector<Vec3<T>> f(m_nb, core::zero3<T>()), t(m_nb, core::zero3<T>());
+    std::vector<Vec3<T>>&f = m_host_vec_a, &t = m_host_vec_b;
+    f.assign(m_nb, core::zero3<T>());
+    t.assign(m_nb, core::zero3<T>());
     for (int k = 0; k < m_nb && !force.empty(); ++k) {
       f[k] = get3(force, k);
       t[k] = get3(torque, k);
@@ -938,6 +967,10 @@ class DemSolver final : public DemEngine {
   bool m_body_loads_stale = false;  // a new external load since the last bodyLoads()
   backend::Array<Space, Vec3<T>> m_body_ext_force, m_body_ext_torque;
   backend::Array<Space, double> m_body_work_ext;
+  // Host buffers of the per-step exchange with a coupling (setExternalForces, ballKinematics),
+  // sized once and reused.
+  mutable std::vector<Vec3<T>> m_host_vec_a, m_host_vec_b, m_host_vec_c;
+  mutable std::vector<int> m_host_id;
 };
 
 }  // namespace millsim::dem

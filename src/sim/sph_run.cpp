@@ -58,7 +58,7 @@ sph::SphMotion SphRun::motionAt(double t) const {
 
 std::vector<std::string> SphRun::stages() const {
   std::vector<std::string> s{"neighbour_build", "sph_pressure", "sph_interaction"};
-  if (m_setup.viscosity == "laminar_sps") s.push_back("sph_sps_stress");
+  if (m_setup.sps()) s.push_back("sph_sps_stress");
   s.push_back(m_setup.integrator == "symplectic" ? "sph_symplectic" : "sph_verlet");
   if (m_setup.shifting) s.push_back("sph_shifting");
   return s;

@@ -15,7 +15,7 @@ struct SphSetup {
   int dimension = 2;
   std::string kernel = "wendland";       // wendland | cubic
   std::string ddt = "fourtakas";         // none | molteni | fourtakas
-  std::string viscosity = "artificial";  // artificial | laminar_sps
+  std::string viscosity = "artificial";  // artificial | laminar | laminar_sps
   std::string integrator = "verlet";     // verlet | symplectic
   bool shifting = false;
   double dp = 0, h = 0, c0 = 0, rho0 = 1000, gamma = 7;
@@ -25,6 +25,11 @@ struct SphSetup {
   double eta2_factor = 0.01;  // eta^2 = factor h^2
   double shift_coef = 2.0, shift_tfs = 1.5;
   double sps_cs = 0.12, sps_ci = 0.0066;
+  // Lo & Shao's laminar term (laminar or laminar_sps).
+  bool laminar() const { return viscosity == "laminar" || viscosity == "laminar_sps"; }
+  // The SPS stress is on: laminar_sps with a non-zero coefficient (with Cs = C_I = 0 the stress
+  // is zero at every step, and the solver runs the laminar term alone, without strain sums).
+  bool sps() const { return viscosity == "laminar_sps" && (sps_cs != 0 || sps_ci != 0); }
   int verlet_steps = 40;
   double cfl = 0.2;
   bool fixed_dt = false;
@@ -123,8 +128,9 @@ class SphEngine {
   // Call before step() with the bodies at the end of the step (and once before initialize()).
   virtual void setBodyKinematics(const std::vector<SphBody>& bodies) = 0;
   // Fluid force and torque on each body from the last force evaluation (pressure and viscosity
-  // of the fluid neighbours of its particles).
-  virtual std::vector<SphBodyLoad> bodyLoads() const = 0;
+  // of the fluid neighbours of its particles). The engine's own buffer, valid until the next call
+  // (a coupled step allocates nothing).
+  virtual const std::vector<SphBodyLoad>& bodyLoads() const = 0;
   // Impulse (N s) and angular impulse (N m s) the fluid delivers to each body over the step
   // begun by the last beginStep(): exactly what the fluid's own update takes from it, so fluid
   // and bodies exchange equal and opposite momentum (up to rounding). Symplectic: dt x the load

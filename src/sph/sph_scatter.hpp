@@ -36,11 +36,7 @@ MILLSIM_FORCE_INLINE void addShare(const SphView<T>& p, int i, const PairSums<T>
     p.shift_grad[i] += s.grad_c;
     p.shift_div[i] += s.div_r;
   }
-  if constexpr (kStrain) {
-    Sym3<T>& e = p.strain[i];
-    e = {e.xx + s.strain.xx, e.yy + s.strain.yy, e.zz + s.strain.zz,
-         e.xy + s.strain.xy, e.xz + s.strain.xz, e.yz + s.strain.yz};
-  }
+  if constexpr (kStrain) p.strain[i] += s.strain;
 }
 
 template <class T, bool kShift, bool kStrain>
@@ -51,10 +47,7 @@ MILLSIM_FORCE_INLINE void addRow(PairSums<T>& r, const PairSums<T>& s) {
     r.grad_c += s.grad_c;
     r.div_r += s.div_r;
   }
-  if constexpr (kStrain) {
-    r.strain = {r.strain.xx + s.strain.xx, r.strain.yy + s.strain.yy, r.strain.zz + s.strain.zz,
-                r.strain.xy + s.strain.xy, r.strain.xz + s.strain.xz, r.strain.yz + s.strain.yz};
-  }
+  if constexpr (kStrain) r.strain += s.strain;
 }
 
 template <class T, bool kShift, bool kStrain>

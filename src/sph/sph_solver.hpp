@@ -148,7 +148,7 @@ class SphSolver final : public SphEngine {
     m_evaluations_per_step = m_symplectic ? 2 : 1;
     withKernel([&](auto kernel) {
       m_dt_limits = diffusionDtLimits(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h,
-                                      s.viscosity == "laminar_sps" ? s.nu : 0.0, s.ddt == "none" ? 0.0 : s.ddt_value,
+                                      s.laminar() ? s.nu : 0.0, s.ddt == "none" ? 0.0 : s.ddt_value,
                                       s.c0, m_symplectic, s.verlet_steps);
     });
     // A fixed step past a limit (the viscous one without its margin) is refused, naming it.
@@ -224,7 +224,7 @@ class SphSolver final : public SphEngine {
       m_shift_div.resize(n, T(0));
     }
     if (m_setup.wall_velocity == "no_slip") m_wall_visc_vel.resize(n, core::zero3<T>());
-    if (m_setup.viscosity == "laminar_sps") {
+    if (m_setup.sps()) {
       m_strain.resize(n, zeroSym3<T>());
       m_tau.resize(n, zeroSym3<T>());
     }
@@ -320,6 +320,9 @@ class SphSolver final : public SphEngine {
     if (m_setup.fixed_dt) return m_setup.dt_fixed;
     const double acc = backend::reduceMax<T>(Space{}, m_n, T(0), FluidAcceleration<T>{m_ace.data(), m_code.data(), m_gravity});
     const double visc = backend::reduceMax<T>(Space{}, m_n, T(0), ReadVisc<T>{m_visc.data(), m_code.data()});
+    // reduceMax keeps a NaN: one NaN particle stops the run here, with its cause.
+    if (!(acc == acc) || !(visc == visc))
+      throw core::SimulationError("SPH: time step is not finite (NaN in accelerations or velocities)");
     const double h = m_setup.h;
     // Eq. 40 with the force condition as sqrt(h / |a|) (DualSPHysics; the paper prints h / |a|,
     // which is not a time).
@@ -341,7 +344,7 @@ class SphSolver final : public SphEngine {
       forces();
     }
     if (m_bodies == 0) return;
-    const std::vector<SphBodyLoad> loads = bodyLoads();
+    const std::vector<SphBodyLoad>& loads = bodyLoads();
     const bool leap = !m_symplectic && !verletEulerStep();
     m_impulse.resize(loads.size());
     for (std::size_t k = 0; k < loads.size(); ++k)
@@ -411,7 +414,11 @@ class SphSolver final : public SphEngine {
     if (static_cast<int>(bodies.size()) != m_bodies)
       throw std::invalid_argument("SphSolver::setBodyKinematics: " + std::to_string(bodies.size()) +
                                   " bodies given, the particles belong to " + std::to_string(m_bodies));
-    std::vector<Vec3<T>> x(bodies.size()), v(bodies.size()), w(bodies.size());
+    // Host buffers kept across steps (sized once): a coupled step allocates nothing.
+    std::vector<Vec3<T>>&x = m_host_body_pos, &v = m_host_body_vel, &w = m_host_body_omega;
+    x.resize(bodies.size());
+    v.resize(bodies.size());
+    w.resize(bodies.size());
     for (std::size_t k = 0; k < bodies.size(); ++k) {
       x[k] = toVec(bodies[k].pos);
       v[k] = toVec(bodies[k].vel);
@@ -428,19 +435,20 @@ class SphSolver final : public SphEngine {
                                                m_body_omega.data(), m_code.data(), m_pos.data(), m_vel.data()});
   }
 
-  std::vector<SphBodyLoad> bodyLoads() const override {
-    std::vector<SphBodyLoad> loads(static_cast<std::size_t>(m_bodies));
+  const std::vector<SphBodyLoad>& bodyLoads() const override {
+    std::vector<SphBodyLoad>& loads = m_loads;
+    loads.resize(static_cast<std::size_t>(m_bodies));
     if (m_bodies == 0) return loads;
     // Summed where the particles live; only the per-body totals come back.
     backend::parallelFor(Space{}, m_bodies,
                          BodyLoadSum<T>{m_body_start.data(), m_body_members.data(), m_slot_of.data(), m_ace.data(),
                                         m_offset.data(), m_mass, m_load_force.data(), m_load_torque.data()});
-    std::vector<Vec3<double>> f, tq;
-    m_load_force.copyToHost(f);
-    m_load_torque.copyToHost(tq);
+    m_load_force.copyToHost(m_host_load_force);
+    m_load_torque.copyToHost(m_host_load_torque);
     for (std::size_t k = 0; k < loads.size(); ++k) {
-      loads[k].force = {f[k].x, f[k].y, f[k].z};
-      loads[k].torque = {tq[k].x, tq[k].y, tq[k].z};
+      const Vec3<double>&f = m_host_load_force[k], &tq = m_host_load_torque[k];
+      loads[k].force = {f.x, f.y, f.z};
+      loads[k].torque = {tq.x, tq.y, tq.z};
     }
     return loads;
   }
@@ -562,8 +570,10 @@ class SphSolver final : public SphEngine {
   }
   template <class F>
   void withVisc(F&& f) const {
-    if (m_setup.viscosity == "laminar_sps")
-      f(ViscosityLaminarSps<T>{T(m_setup.nu), m_eta2});
+    if (m_setup.sps())
+      f(ViscosityLaminarSps<T>{{T(m_setup.nu), m_eta2}});
+    else if (m_setup.laminar())
+      f(ViscosityLaminar<T>{T(m_setup.nu), m_eta2});
     else
       f(ViscosityArtificial<T>{T(m_setup.alpha), T(m_setup.alpha * m_setup.visco_bound_factor), T(m_setup.h),
                                T(m_setup.c0), m_eta2});
@@ -637,7 +647,7 @@ class SphSolver final : public SphEngine {
         });
       });
     });
-    if (m_setup.viscosity == "laminar_sps") {
+    if (m_setup.sps()) {
       const double dp = m_setup.dp;
       const SpsStress<T> sps{T(m_setup.sps_cs * m_setup.sps_cs * dp * dp), T(2.0 / 3.0 * m_setup.sps_ci * dp * dp)};
       backend::parallelFor(Space{}, m_n, SpsUpdate<T>{sps, m_strain.data(), m_rho.data(), m_code.data(), m_tau.data()});
@@ -668,6 +678,10 @@ class SphSolver final : public SphEngine {
   // the last renumbering, and the per-body sums of bodyLoads().
   backend::Array<Space, int> m_body_start, m_body_members, m_slot_of;
   mutable backend::Array<Space, Vec3<double>> m_load_force, m_load_torque;
+  // Host buffers of the per-body exchange (bodyLoads, setBodyKinematics), reused every step.
+  mutable std::vector<SphBodyLoad> m_loads;
+  mutable std::vector<Vec3<double>> m_host_load_force, m_host_load_torque;
+  std::vector<Vec3<T>> m_host_body_pos, m_host_body_vel, m_host_body_omega;
   backend::Array<Space, Sym3<T>> m_strain, m_tau;
   backend::Array<Space, Vec3<T>> m_scratch_vec;
   backend::Array<Space, T> m_scratch_real;

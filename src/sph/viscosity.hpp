@@ -6,7 +6,7 @@
 //   mu = h v_ab.r_ab / (r^2 + eta^2),  Pi_ab = -alpha c0 mu / rho_bar,  dv_a/dt -= m_b Pi_ab grad W.
 //   alpha is multiplied by visco_bound_factor for pairs with a boundary particle (paper: 0.1
 //   in the wet mill).
-// ViscosityLaminarSps (Lo & Shao 2002 + Dalrymple & Rogers 2006 SPS, eqs. 23-27):
+// ViscosityLaminar, ViscosityLaminarSps (Lo & Shao 2002 + Dalrymple & Rogers 2006 SPS, eqs. 23-27):
 //   dv_a/dt += m_b 4 nu (r_ab . grad W) / ((rho_a + rho_b)(r^2 + eta^2)) v_ab
 //            + m_b (tau_a + tau_b) / (rho_a rho_b) . grad W,
 //   tau from the previous step's strain rate (SpsStress below): nu_SPS = (Cs dp)^2 |S|,
@@ -27,6 +27,15 @@ using core::Vec3;
 template <class T>
 struct Sym3 {
   T xx, yy, zz, xy, xz, yz;
+  MILLSIM_HD MILLSIM_FORCE_INLINE Sym3& operator+=(const Sym3& o) {
+    xx += o.xx;
+    yy += o.yy;
+    zz += o.zz;
+    xy += o.xy;
+    xz += o.xz;
+    yz += o.yz;
+    return *this;
+  }
   MILLSIM_HD Vec3<T> dot(Vec3<T> v) const {
     return {xx * v.x + xy * v.y + xz * v.z, xy * v.x + yy * v.y + yz * v.z, xz * v.x + yz * v.y + zz * v.z};
   }
@@ -52,17 +61,30 @@ struct ViscosityArtificial {
   }
 };
 
+// Lo & Shao's laminar term alone (viscosity = laminar, or laminar_sps with Cs = C_I = 0): no
+// strain rate to sum, no stress to read.
+template <class T>
+struct ViscosityLaminar {
+  static constexpr const char* kName = "laminar";
+  static constexpr bool kNeedsStrain = false;
+  T nu = 1e-6, eta2 = 0;
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> /*r_ab*/, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool /*bound*/,
+                                const Sym3<T>& = {}, const Sym3<T>& = {}) const {
+    return (m_b * T(4) * nu * fac * r2 / ((rho_a + rho_b) * (r2 + eta2))) * v_ab;
+  }
+};
+
+// The laminar term plus the SPS stress divergence.
 template <class T>
 struct ViscosityLaminarSps {
   static constexpr const char* kName = "laminar_sps";
   static constexpr bool kNeedsStrain = true;
-  T nu = 1e-6, eta2 = 0;
-  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool /*bound*/,
+  ViscosityLaminar<T> laminar;
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool bound,
                                 const Sym3<T>& tau_a, const Sym3<T>& tau_b) const {
-    const T lam = m_b * T(4) * nu * fac * r2 / ((rho_a + rho_b) * (r2 + eta2));
-    const Sym3<T> t{tau_a.xx + tau_b.xx, tau_a.yy + tau_b.yy, tau_a.zz + tau_b.zz,
-                    tau_a.xy + tau_b.xy, tau_a.xz + tau_b.xz, tau_a.yz + tau_b.yz};
-    return lam * v_ab + (m_b * fac / (rho_a * rho_b)) * t.dot(r_ab);
+    Sym3<T> t = tau_a;
+    t += tau_b;
+    return laminar(r_ab, v_ab, r2, fac, rho_a, rho_b, m_b, bound) + (m_b * fac / (rho_a * rho_b)) * t.dot(r_ab);
   }
 };
 

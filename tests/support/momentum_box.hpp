@@ -36,9 +36,28 @@ struct MomentumRun {
   long long steps = 0;
 };
 
+// The scene, set up and initialised: both engines and their coupling.
+struct MomentumBox {
+  std::unique_ptr<dem::DemEngine> dem;
+  std::unique_ptr<sph::SphEngine> sph;
+  std::unique_ptr<coupling::SphDemCoupling> coupling;
+  double dt_dem = 2e-4;
+  double fluid_mass = 0;  // of one fluid particle, kg
+  // One coupled step (the DEM sub-stepped at dt_dem or finer); returns dt.
+  double advance() {
+    auto half = [](double) { return sph::SphMotion{}; };
+    auto dem_steps = [this](double dt) {
+      const int sub = std::max(1, static_cast<int>(std::ceil(dt / dt_dem - 1e-9)));
+      for (int k = 0; k < sub; ++k) dem->step(stillDrum(), dt / sub);
+      return sph::SphMotion{};
+    };
+    return coupling->advance(*sph, *dem, half, dem_steps);
+  }
+};
+
 // dcdem: the balls are DCDEM bodies (lattice particles at the fluid's dp, dem_fixture), loaded
 // per body; else analytic spheres.
-inline MomentumRun runBox(const std::string& integrator, bool dcdem = false, bool cuda = false) {
+inline MomentumBox makeMomentumBox(const std::string& integrator, bool dcdem = false, bool cuda = false) {
   const double dp = 0.01, L = 0.16, rho0 = 1000, z0 = 1.0;  // z0: clear of the DEM drum's front plate
   sph::SphSetup s;
   s.dimension = 3;
@@ -89,12 +108,23 @@ inline MomentumRun runBox(const std::string& integrator, bool dcdem = false, boo
   } else {
     dem = makeEngine(dsc, balls);
   }
-  auto sph = makeSphEngine(s, cuda);
-  sph->setState(st);
-  coupling::SphDemCoupling coupling(balls.size(), {sph::SphBody{centre, {}, {}}});
-  coupling.initialize(*sph, dem::ballStates(*dem), {});
+  MomentumBox run;
+  run.fluid_mass = rho0 * dp * dp * dp;
+  run.dem = std::move(dem);
+  run.sph = makeSphEngine(s, cuda);
+  run.sph->setState(st);
+  run.coupling = std::make_unique<coupling::SphDemCoupling>(balls.size(),
+                                                             std::vector<sph::SphBody>{sph::SphBody{centre, {}, {}}});
+  run.coupling->initialize(*run.sph, dem::ballStates(*run.dem), {});
+  return run;
+}
 
-  const double fluid_mass = rho0 * dp * dp * dp;
+inline MomentumRun runBox(const std::string& integrator, bool dcdem = false, bool cuda = false) {
+  MomentumBox box = makeMomentumBox(integrator, dcdem, cuda);
+  sph::SphEngine* sph = box.sph.get();
+  dem::DemEngine* dem = box.dem.get();
+  const coupling::SphDemCoupling& coupling = *box.coupling;
+  const double fluid_mass = box.fluid_mass;
   auto total = [&](double* fluid_abs, double* wall_abs) {
     std::array<double, 3> p{0, 0, 0}, pf{0, 0, 0};
     sph::SphHostState now;
@@ -116,16 +146,9 @@ inline MomentumRun runBox(const std::string& integrator, bool dcdem = false, boo
   MomentumRun r;
   const std::array<double, 3> p0 = total(nullptr, nullptr);
   r.p0 = std::sqrt(p0[0] * p0[0] + p0[1] * p0[1] + p0[2] * p0[2]);
-  const double dt_dem = 2e-4;
   double t = 0;
-  auto half = [](double) { return sph::SphMotion{}; };
-  auto dem_steps = [&](double dt) {
-    const int sub = std::max(1, static_cast<int>(std::ceil(dt / dt_dem - 1e-9)));
-    for (int k = 0; k < sub; ++k) dem->step(stillDrum(), dt / sub);
-    return sph::SphMotion{};
-  };
   while (t < 1.0) {
-    t += coupling.advance(*sph, *dem, half, dem_steps);
+    t += box.advance();
     ++r.steps;
     const std::array<double, 3> p = total(nullptr, nullptr);
     const double d =

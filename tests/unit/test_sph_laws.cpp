@@ -165,7 +165,7 @@ TEST(SphViscosity, LaminarTermConvergesToTheLaplacianOnALattice) {
   for (const auto& [h_over_dp, tol] : {std::pair{2.0, 0.002}, std::pair{3.0, 0.0002}}) {
     const double h = h_over_dp * dp;
     const auto k = sph::WendlandC2<2, double>::make(h);
-    const sph::ViscosityLaminarSps<double> visc{nu, 0.0};
+    const sph::ViscosityLaminar<double> visc{nu, 0.0};
     for (bool quadratic : {true, false}) {
       auto u = [&](double y) { return quadratic ? c * y * y : c * y; };
       const double ya = 0.37 * dp;  // a off the lattice's symmetry lines
@@ -219,7 +219,7 @@ TEST(SphViscousStability, LaminarRateIsTheCheckerboardRateOfTheFunctor) {
   const auto z = sph::zeroSym3<double>();
   const double h = std::sqrt(2.0) * dp, eta2 = 0.01 * h * h;
   const auto k = sph::WendlandC2<2, double>::make(h);
-  const sph::ViscosityLaminarSps<double> visc{nu, eta2};
+  const sph::ViscosityLaminar<double> visc{nu, eta2};
   double acc = 0;  // on a (v_a = 1) from its neighbours b (v_b = (-1)^(i + j))
   for (int i = -3; i <= 3; ++i)
     for (int j = -3; j <= 3; ++j) {

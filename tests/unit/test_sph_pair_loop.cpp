@@ -208,5 +208,15 @@ TEST(SphPairLoop, PairOnceGivesTheGatherSums2dWendlandNoDdtLaminarShifting) {
       "2D Wendland no DDT laminar+SPS shifting");
 }
 
+// The laminar term alone (viscosity = laminar, or laminar_sps with Cs = C_I = 0): the towed
+// cylinder's and spin-up's configuration.
+TEST(SphPairLoop, PairOnceGivesTheGatherSums2dWendlandFourtakasLaminarShifting) {
+  const double c0 = 30, b = c0 * c0 * 1000 / 7;
+  compareLoops<2, sph::WendlandC2<2, double>, sph::DdtFourtakas2019<double>, sph::ViscosityLaminar<double>, true>(
+      sph::WendlandC2<2, double>::make(kH),
+      sph::DdtFourtakas2019<double>{2 * 0.1 * kH * c0, 0.01 * kH * kH, 1000, 1000 * 9.81 / b, 1.0 / 7},
+      sph::ViscosityLaminar<double>{1e-3, 0.01 * kH * kH}, "2D Wendland Fourtakas laminar shifting");
+}
+
 }  // namespace
 }  // namespace millsim

@@ -114,10 +114,8 @@ SettlingResult runSettling(const SettlingCase& c) {
   s.rho0 = c.rho0;
   s.gamma = gamma;
   s.gravity = {0, 0, 0};
-  s.viscosity = "laminar_sps";
+  s.viscosity = "laminar";
   s.nu = c.nu;
-  s.sps_cs = 0;
-  s.sps_ci = 0;
   s.integrator = c.integrator;
   s.wall_velocity = c.wall_velocity;
   s.shifting = true;

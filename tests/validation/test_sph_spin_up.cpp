@@ -73,10 +73,8 @@ SpinUpResult runSpinUp(int n_radius, const char* integrator, const char* csv, co
   s.h = dp * std::sqrt(2.0);
   s.c0 = 1.0;  // 20 x the wall speed (Mach 0.05); the rotation's pressure rho Omega^2 R^2 / 2 is 1.25 Pa
   s.rho0 = rho0;
-  s.viscosity = "laminar_sps";
+  s.viscosity = "laminar";
   s.nu = nu;
-  s.sps_cs = 0;  // laminar only: the diffusion equation above has no eddy viscosity
-  s.sps_ci = 0;
   s.ddt = "fourtakas";
   s.shifting = true;
   s.integrator = integrator;

@@ -55,10 +55,8 @@ TowResult towCylinder(int n_radius, const std::string& wall_velocity) {
   s.h = std::sqrt(2.0) * dp;
   s.c0 = c0;
   s.rho0 = rho0;
-  s.viscosity = "laminar_sps";
+  s.viscosity = "laminar";
   s.nu = nu;
-  s.sps_cs = 0;
-  s.sps_ci = 0;
   s.wall_velocity = wall_velocity;
   s.ddt = "fourtakas";
   s.shifting = true;

@@ -109,15 +109,10 @@ R reduceSum(Cuda, int n, const F& f) {
                                   R(0), thrust::plus<R>());
 }
 
-template <class R>
-struct MaxOp {
-  __host__ __device__ R operator()(R a, R b) const { return a > b ? a : b; }
-};
-
 template <class R, class F>
 R reduceMax(Cuda, int n, R init, const F& f) {
   return thrust::transform_reduce(thrust::device, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f,
-                                  init, MaxOp<R>());
+                                  init, MaxKeepNan());
 }
 
 inline void sortByKey(Cuda, int* keys, int* values, int n, int /*key_count*/, std::vector<int>& /*scratch*/) {

@@ -11,6 +11,8 @@
 #include <omp.h>
 #endif
 
+#include "millsim/backend/reduce_ops.hpp"
+
 namespace millsim::backend {
 
 struct Omp {
@@ -83,11 +85,23 @@ R reduceSum(Omp, int n, const F& f) {
   return total;
 }
 
+// Largest f(i) and init; NaN if any f(i) is NaN (MaxKeepNan, as on CUDA).
 template <class R, class F>
 R reduceMax(Omp, int n, R init, const F& f) {
+  constexpr MaxKeepNan op{};
   R best = init;
-#pragma omp parallel for schedule(static) reduction(max : best) if (n >= kOmpParallelThreshold)
-  for (int i = 0; i < n; ++i) best = std::max(best, f(i));
+  if (n < kOmpParallelThreshold) {
+    for (int i = 0; i < n; ++i) best = op(best, f(i));
+    return best;
+  }
+#pragma omp parallel
+  {
+    R local = init;
+#pragma omp for schedule(static) nowait
+    for (int i = 0; i < n; ++i) local = op(local, f(i));
+#pragma omp critical(millsim_reduce_max)
+    best = op(best, local);
+  }
   return best;
 }
 

@@ -100,10 +100,10 @@ struct SphParams {
   double hswl = 0.0;                   // m, still-water height for c0; 0: the fluid's height
   double rho0 = 1000.0;                // kg/m3
   double gamma = 7.0;                  // Tait exponent
-  std::string viscosity = "artificial";  // artificial | laminar_sps
+  std::string viscosity = "artificial";  // artificial | laminar | laminar_sps
   double alpha = 0.1;                  // artificial viscosity coefficient
   double visco_bound_factor = 1.0;     // alpha multiplier for fluid-boundary pairs
-  double nu = 1e-6;                    // m2/s, kinematic viscosity (laminar_sps)
+  double nu = 1e-6;                    // m2/s, kinematic viscosity (laminar, laminar_sps)
   std::string wall_velocity = "dbc";   // dbc | no_slip: wall velocity in the viscous terms
   std::string ddt = "fourtakas";       // none | molteni | fourtakas
   double ddt_value = 0.1;              // delta
