@@ -503,6 +503,10 @@ Schema buildSchema() {
              "Wall particles in the viscous terms: dbc, their own velocity (DualSPHysics and the paper; the fluid "
              "slips about a spacing past the wall); no_slip, 2 v_wall minus the mean velocity of the fluid next to "
              "them (Adami et al. 2012): no slip at the wall surface, for viscous flows."),
+      choice("sph", "boundary", {"dbc", "mdbc"}, [](Scene& sc) -> std::string& { return sc.sph.boundary; },
+             "Wall densities: dbc, by the continuity equation (the paper, DualSPHysics's default; the wall holds the "
+             "fluid about a spacing off its surface); mdbc, from the fluid at each wall particle's mirror image "
+             "across the wall (English et al. 2022, first-order consistent), which closes that gap."),
       choice("sph", "ddt", {"none", "molteni", "fourtakas"}, [](Scene& sc) -> std::string& { return sc.sph.ddt; },
              "Density diffusion: none, Molteni & Colagrossi 2009, Fourtakas et al. 2019 (eqs. 17-20)."),
       number("sph", "ddt_value", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.ddt_value; },

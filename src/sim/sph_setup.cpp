@@ -69,6 +69,7 @@ sph::SphSetup sphSolverSetup(const scene::Scene& sc, double still_water_height) 
   s.kernel = p.kernel;
   s.ddt = p.ddt;
   s.viscosity = p.viscosity;
+  s.boundary = p.boundary;
   s.integrator = p.integrator;
   s.shifting = p.shifting == "full";
   s.dp = p.dp;

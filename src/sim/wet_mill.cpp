@@ -143,6 +143,7 @@ void WetMill::save(io::CheckpointData& cp) const {
   cp.ints["sph_code"] = toInts(s.particles.code);
   cp.ints["sph_body"] = toInts(s.particles.body);
   cp.reals["sph_offset"] = s.particles.offset;
+  cp.reals["sph_ghost"] = s.particles.ghost;
   cp.reals["sph_pos0"] = s.pos0;
   cp.reals["sph_vel_m1"] = s.vel_m1;
   cp.reals["sph_rho_m1"] = s.rho_m1;
@@ -197,6 +198,7 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const io::Ch
   s.particles.code = ints("sph_code");
   s.particles.body = ints("sph_body");
   s.particles.offset = real("sph_offset");
+  if (cp.reals.count("sph_ghost")) s.particles.ghost = cp.reals.at("sph_ghost");  // older checkpoints: none
   s.pos0 = real("sph_pos0");
   s.vel_m1 = real("sph_vel_m1");
   s.rho_m1 = real("sph_rho_m1");

@@ -1,6 +1,7 @@
 #include "sph/geometry.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -12,7 +13,15 @@ namespace {
 // Lattice points c0 + (i + 1/2) dp covering [a, b) (rounded so a box of k dp holds k rows).
 int rows(double a, double b, double dp) { return std::max(0, static_cast<int>(std::floor((b - a) / dp + 1e-9))); }
 
-void add(SphHostState& s, double x, double y, double z, int code, double rho) {
+// ghost: the particle's mDBC ghost offset (its mirror image across the wall surface, minus the
+// particle); zero for fluid and for walls without one. The state's ghost array is created with
+// the first non-zero offset and then kept one entry per particle.
+void add(SphHostState& s, double x, double y, double z, int code, double rho,
+         const std::array<double, 3>& ghost = {0.0, 0.0, 0.0}) {
+  if (!s.ghost.empty() || ghost[0] != 0 || ghost[1] != 0 || ghost[2] != 0) {
+    s.ghost.resize(3 * s.size(), 0.0);  // zeros for the particles before the first ghost
+    s.ghost.insert(s.ghost.end(), ghost.begin(), ghost.end());
+  }
   s.pos.insert(s.pos.end(), {x, y, z});
   s.vel.insert(s.vel.end(), {0.0, 0.0, 0.0});
   s.rho.push_back(rho);
@@ -50,7 +59,11 @@ void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layer
       for (int i = -L; i < nx + L; ++i) {
         const bool inside_x = i >= 0 && i < nx, inside_y = j >= 0 && j < ny, inside_z = dim == 2 || (k >= 0 && k < nz);
         if (inside_x && inside_y && inside_z) continue;  // the tank's interior
-        add(s, coord(0, i), coord(1, j), dim == 2 ? 0.0 : coord(2, k), code, rho0);
+        // Ghost node: the mirror image through the nearest point of the box (faces, edges, corners).
+        const std::array<double, 3> p{coord(0, i), coord(1, j), dim == 2 ? 0.0 : coord(2, k)};
+        std::array<double, 3> g{};
+        for (int a = 0; a < dim; ++a) g[a] = 2 * (std::clamp(p[a], box.lo[a], box.hi[a]) - p[a]);
+        add(s, p[0], p[1], p[2], code, rho0, g);
       }
 }
 
@@ -62,6 +75,38 @@ bool insideLifter(const DrumGeometry& d, double x, double y, double clearance) {
     if (u >= d.radius - d.lifter_height - clearance && std::abs(v) <= 0.5 * d.lifter_width + clearance) return true;
   }
   return false;
+}
+
+std::array<double, 3> drumGhost(const DrumGeometry& d, double x, double y, double z) {
+  std::array<double, 3> g{};
+  // End plates: mirrored across z = 0 and z = L.
+  if (z < 0) g[2] = -2 * z;
+  if (z > d.length) g[2] = 2 * (d.length - z);
+  const double r = std::hypot(x, y);
+  if (r >= d.radius) {  // mantle: radially across r = R
+    g[0] = 2 * (d.radius - r) * x / r;
+    g[1] = 2 * (d.radius - r) * y / r;
+    return g;
+  }
+  if (z < 0 || z > d.length) return g;
+  // Inside a lifter: across its nearest face (top u = R - h or a side v = +-w/2).
+  const double two_pi = 2 * std::acos(-1.0);
+  for (int k = 0; k < d.lifters; ++k) {
+    const double a = d.first_angle + k * two_pi / d.lifters, ca = std::cos(a), sa = std::sin(a);
+    const double u = x * ca + y * sa, v = -x * sa + y * ca, hw = 0.5 * d.lifter_width;
+    if (u < d.radius - d.lifter_height || std::abs(v) > hw) continue;
+    const double to_top = u - (d.radius - d.lifter_height), to_side = hw - std::abs(v);
+    if (to_top <= to_side) {
+      g[0] = -2 * to_top * ca;
+      g[1] = -2 * to_top * sa;
+    } else {
+      const double sv = v >= 0 ? 1.0 : -1.0;  // out through the side v = sv hw, along sv e_t
+      g[0] = 2 * to_side * sv * -sa;
+      g[1] = 2 * to_side * sv * ca;
+    }
+    return g;
+  }
+  return g;
 }
 
 void addDrumWalls(SphHostState& s, const DrumGeometry& d, double dp, int layers, double rho0) {
@@ -76,7 +121,7 @@ void addDrumWalls(SphHostState& s, const DrumGeometry& d, double dp, int layers,
         if (r >= outer) continue;
         const bool plate = z < 0 || z > d.length;
         const bool shell = r >= d.radius;
-        if (plate || shell || insideLifter(d, x, y, 0.0)) add(s, x, y, z, kBoundMoving, rho0);
+        if (plate || shell || insideLifter(d, x, y, 0.0)) add(s, x, y, z, kBoundMoving, rho0, drumGhost(d, x, y, z));
       }
 }
 
@@ -94,7 +139,9 @@ void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, d
         const double dx = i * dp, dy = j * dp, dz = k * dp;
         const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
         if (d >= r || d < inner) continue;
-        add(s, c[0] + dx, c[1] + dy, dim == 2 ? 0.0 : c[2] + dz, kBoundBody, rho0);
+        // Ghost: radially across the surface r (the fluid is carved to r + dp/2).
+        const double out = d > 0 ? 2 * (r - d) / d : 0.0;
+        add(s, c[0] + dx, c[1] + dy, dim == 2 ? 0.0 : c[2] + dz, kBoundBody, rho0, {out * dx, out * dy, out * dz});
         s.body.push_back(body);
         s.offset.insert(s.offset.end(), {dx, dy, dz});
       }
@@ -110,6 +157,8 @@ void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearanc
     out.vel.insert(out.vel.end(), {s.vel[3 * i], s.vel[3 * i + 1], s.vel[3 * i + 2]});
     out.rho.push_back(s.rho[i]);
     out.code.push_back(s.code[i]);
+    if (s.ghost.size() == 3 * s.size())
+      out.ghost.insert(out.ghost.end(), {s.ghost[3 * i], s.ghost[3 * i + 1], s.ghost[3 * i + 2]});
     if (bodies) {
       out.body.push_back(s.body[i]);
       out.offset.insert(out.offset.end(), {s.offset[3 * i], s.offset[3 * i + 1], s.offset[3 * i + 2]});

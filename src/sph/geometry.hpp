@@ -35,6 +35,11 @@ struct DrumGeometry {
 };
 void addDrumWalls(SphHostState& s, const DrumGeometry& drum, double dp, int layers, double rho0);
 
+// The mDBC ghost offset of a drum wall particle at (x, y, z): its mirror image across the
+// nearest wall surface (cylinder, end plate, lifter face; both for a mantle-plate corner),
+// minus the particle.
+std::array<double, 3> drumGhost(const DrumGeometry& drum, double x, double y, double z);
+
 // True when x lies inside a lifter of the drum, grown by `clearance`.
 bool insideLifter(const DrumGeometry& drum, double x, double y, double clearance);
 

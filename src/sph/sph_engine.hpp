@@ -21,6 +21,7 @@ struct SphSetup {
   double dp = 0, h = 0, c0 = 0, rho0 = 1000, gamma = 7;
   double alpha = 0.1, visco_bound_factor = 1.0, nu = 1e-6;
   std::string wall_velocity = "dbc";  // dbc | no_slip (walls in the viscous terms: WallNoSlipVelocity)
+  std::string boundary = "dbc";       // dbc | mdbc: wall densities by continuity or from ghost nodes (mdbc.hpp)
   double ddt_value = 0.1;
   double eta2_factor = 0.01;  // eta^2 = factor h^2
   double shift_coef = 2.0, shift_tfs = 1.5;
@@ -50,6 +51,9 @@ struct SphHostState {
   // the same however they turn). Empty when the case has no bodies.
   std::vector<int> body;
   std::vector<double> offset;
+  // mDBC (mdbc.hpp): each wall particle's ghost offset, x_ghost - x (3 per particle, zero for
+  // fluid and for walls without one; moving walls: at the start). Empty: none.
+  std::vector<double> ghost;
   std::size_t size() const { return rho.size(); }
 };
 

@@ -18,6 +18,7 @@
 #include "sph/density_diffusion.hpp"
 #include "sph/diffusion_stability.hpp"
 #include "sph/kernels.hpp"
+#include "sph/mdbc.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
 #include "sph/sph_scatter.hpp"
@@ -200,6 +201,16 @@ class SphSolver final : public SphEngine {
       m_offset.copyFromHost(offset);
       setBodyMembers(s);
     }
+    if (m_setup.boundary == "mdbc") {
+      if (s.ghost.size() != 3 * n)
+        throw std::invalid_argument("SphSolver: boundary = mdbc needs a ghost offset per particle (" +
+                                    std::to_string(s.ghost.size()) + " values for " + std::to_string(n) +
+                                    " particles): build the walls with sph/geometry.hpp");
+      std::vector<Vec3<T>> ghost(n);
+      for (std::size_t i = 0; i < n; ++i)
+        ghost[i] = {T(s.ghost[3 * i]), T(s.ghost[3 * i + 1]), Dim == 2 ? T(0) : T(s.ghost[3 * i + 2])};
+      m_ghost.copyFromHost(ghost);
+    }
     m_pos.copyFromHost(pos);
     m_vel.copyFromHost(vel);
     m_rho.copyFromHost(rho);
@@ -274,6 +285,7 @@ class SphSolver final : public SphEngine {
       for (std::size_t i = 0; i < body.size(); ++i) s.particles.body[static_cast<std::size_t>(id[i])] = body[i];
       s.particles.offset = hostOrder(m_offset, id);
     }
+    if (m_ghost.size() > 0) s.particles.ghost = hostOrder(m_ghost, id);
     s.pos0 = m_has_moving ? hostOrder(m_pos0, id) : std::vector<double>{};
     s.vel_m1 = m_symplectic ? std::vector<double>{} : hostOrder(m_vel_m1, id);
     s.rho_m1.clear();
@@ -484,6 +496,7 @@ class SphSolver final : public SphEngine {
              m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes() + m_wall_visc_vel.bytes()},
             {"sph.shifting", m_shift_grad.bytes() + m_shift_div.bytes()},
             {"sph.sps", m_strain.bytes() + m_tau.bytes()},
+            {"sph.mdbc", m_ghost.bytes()},
             {"sph.reorder_scratch", m_scratch_vec.bytes() + m_scratch_real.bytes() + m_scratch_int.bytes() +
                                         m_scratch_sym.bytes()},
             {"neighbors", m_cells.bytes()},
@@ -519,7 +532,10 @@ class SphSolver final : public SphEngine {
             m_wall_visc_vel.size() > 0 ? m_wall_visc_vel.data() : m_vel.data()};
   }
 
+  // The motion the moving walls are placed with; remembered for the mDBC ghost offsets, which
+  // turn with the walls (every placement is followed by the force evaluation that reads it).
   BoundaryMotion<T> motionOf(const SphMotion& m) const {
+    m_theta = m.theta;
     const Vec3<T> c = toVec(m_setup.motion_center);
     return {c, T(std::cos(m.theta)), T(std::sin(m.theta)), T(m.omega)};
   }
@@ -612,8 +628,17 @@ class SphSolver final : public SphEngine {
     gather(m_code, m_scratch_int, order);
     gather(m_body, m_scratch_int, order);
     gather(m_offset, m_scratch_vec, order);
+    gather(m_ghost, m_scratch_vec, order);
     m_cells.renumberedInOrder();
     if (m_bodies > 0) backend::parallelFor(Space{}, m_n, SlotOfId{m_id.data(), m_slot_of.data()});
+    if (m_ghost.size() > 0)
+      withKernel([&](auto kernel) {
+        backend::parallelFor(Space{}, m_n,
+                             MdbcDensity<T, decltype(kernel), Dim>{m_cells.view(0), m_pos.data(), m_code.data(),
+                                                                   m_ghost.data(), kernel, m_support2, m_mass,
+                                                                   m_eos.rho0, T(std::cos(m_theta)),
+                                                                   T(std::sin(m_theta)), 0, m_rho.data()});
+      });
     backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
     const SphView<T> p = view();
     withKernel([&](auto kernel) {
@@ -682,6 +707,9 @@ class SphSolver final : public SphEngine {
   mutable std::vector<SphBodyLoad> m_loads;
   mutable std::vector<Vec3<double>> m_host_load_force, m_host_load_torque;
   std::vector<Vec3<T>> m_host_body_pos, m_host_body_vel, m_host_body_omega;
+  // mDBC (boundary = mdbc): ghost offsets per particle; the moving walls' angle.
+  backend::Array<Space, Vec3<T>> m_ghost;
+  mutable double m_theta = 0;
   backend::Array<Space, Sym3<T>> m_strain, m_tau;
   backend::Array<Space, Vec3<T>> m_scratch_vec;
   backend::Array<Space, T> m_scratch_real;

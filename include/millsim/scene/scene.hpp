@@ -105,6 +105,7 @@ struct SphParams {
   double visco_bound_factor = 1.0;     // alpha multiplier for fluid-boundary pairs
   double nu = 1e-6;                    // m2/s, kinematic viscosity (laminar, laminar_sps)
   std::string wall_velocity = "dbc";   // dbc | no_slip: wall velocity in the viscous terms
+  std::string boundary = "dbc";        // dbc | mdbc: wall densities by continuity or from ghost nodes
   std::string ddt = "fourtakas";       // none | molteni | fourtakas
   double ddt_value = 0.1;              // delta
   std::string integrator = "verlet";   // verlet | symplectic
