@@ -153,8 +153,8 @@ struct CrossCheck {
   std::string (*violation)(const Scene&);  // "" when the rule holds, else "must be ..."
 };
 
-AttrSpec number(const char* element, const char* name, const char* unit, Bounds bounds,
-                NumberRef ref, const char* description) {
+AttrSpec number(const char* element, const char* name, const char* unit, Bounds bounds, NumberRef ref,
+                const char* description) {
   AttrSpec s;
   s.element = element;
   s.name = name;
@@ -166,8 +166,8 @@ AttrSpec number(const char* element, const char* name, const char* unit, Bounds 
   return s;
 }
 
-AttrSpec integer(const char* element, const char* name, const char* unit, Bounds bounds,
-                 IntegerRef ref, const char* description) {
+AttrSpec integer(const char* element, const char* name, const char* unit, Bounds bounds, IntegerRef ref,
+                 const char* description) {
   AttrSpec s = number(element, name, unit, bounds, nullptr, description);
   s.kind = Kind::Integer;
   s.integer = ref;
@@ -181,8 +181,8 @@ AttrSpec flag(const char* element, const char* name, FlagRef ref, const char* de
   return s;
 }
 
-AttrSpec choice(const char* element, const char* name, std::vector<std::string> choices,
-                TextRef ref, const char* description) {
+AttrSpec choice(const char* element, const char* name, std::vector<std::string> choices, TextRef ref,
+                const char* description) {
   AttrSpec s = number(element, name, "", anyValue(), nullptr, description);
   s.kind = Kind::Choice;
   s.choices = std::move(choices);
@@ -499,10 +499,13 @@ Schema buildSchema() {
              "alpha multiplier for fluid-boundary pairs (paper's wet mill: 0.1)."),
       number("sph", "nu", "m^2/s", atLeast(0), [](Scene& sc) -> double& { return sc.sph.nu; },
              "Kinematic viscosity for laminar and laminar_sps (paper's slurry: 8.1e-6)."),
-      choice("sph", "wall_velocity", {"dbc", "no_slip"}, [](Scene& sc) -> std::string& { return sc.sph.wall_velocity; },
+      choice("sph", "wall_velocity", {"dbc", "no_slip", "no_slip_ghost"},
+             [](Scene& sc) -> std::string& { return sc.sph.wall_velocity; },
              "Wall particles in the viscous terms: dbc, their own velocity (DualSPHysics and the paper; the fluid "
              "slips about a spacing past the wall); no_slip, 2 v_wall minus the mean velocity of the fluid next to "
-             "them (Adami et al. 2012): no slip at the wall surface, for viscous flows."),
+             "them (Adami et al. 2012): no slip at the wall surface, for viscous flows; no_slip_ghost (with "
+             "sph.boundary = mdbc), 2 v_wall minus the fluid velocity at the wall particle's ghost node (exact "
+             "for a linear shear profile; docs/validation.md compares the two)."),
       choice("sph", "boundary", {"dbc", "mdbc"}, [](Scene& sc) -> std::string& { return sc.sph.boundary; },
              "Wall densities: dbc, by the continuity equation (the paper, DualSPHysics's default; the wall holds the "
              "fluid about a spacing off its surface); mdbc, from the fluid at each wall particle's mirror image "
@@ -683,6 +686,11 @@ Schema buildSchema() {
          if (!sc.effect_sph || (sc.sph.rho0 > sc.sph.rhop_out_min && sc.sph.rho0 < sc.sph.rhop_out_max)) return {};
          return "must lie between sph.rhop_out_min and sph.rhop_out_max";
        }},
+      {"sph", "wall_velocity", "`sph.wall_velocity` = no_slip_ghost needs `sph.boundary` = mdbc",
+       [](const Scene& sc) -> std::string {
+         if (!sc.effect_sph || sc.sph.wall_velocity != "no_slip_ghost" || sc.sph.boundary == "mdbc") return {};
+         return "no_slip_ghost takes the velocity at mDBC ghost nodes: it needs sph.boundary = mdbc";
+       }},
       {"sph", "coefh", "h = `sph.coefh` dp sqrt(`sph.dimension`) >= dp",
        [](const Scene& sc) -> std::string {
          if (!sc.effect_sph || sc.sph.coefh * std::sqrt(double(sc.sph.dimension)) >= 1.0) return {};
@@ -817,9 +825,7 @@ std::string boundsText(const Bounds& b) {
   return "any";
 }
 
-std::string mustBe(const Bounds& b) {
-  return (b.has_min && b.has_max ? "must be in " : "must be ") + boundsText(b);
-}
+std::string mustBe(const Bounds& b) { return (b.has_min && b.has_max ? "must be in " : "must be ") + boundsText(b); }
 
 std::string trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\r\n");
@@ -941,8 +947,8 @@ class CaseReader {
     for (const auto& e : schema().elements)
       if (!e.required_with.empty() && m_read.count(e.required_with) && !m_read.count(e.path) &&
           (e.unless.empty() || !m_read.count(e.unless)))
-        failElement(*m_read.at(e.required_with), "<" + schema().element(e.required_with)->tag() + "> needs a <" +
-                                                     e.tag() + "> element in the case");
+        failElement(*m_read.at(e.required_with),
+                    "<" + schema().element(e.required_with)->tag() + "> needs a <" + e.tag() + "> element in the case");
     if (m_read.count("sph") && !m_read.count("dem") && !m_read.count("fluid"))
       failElement(*m_read.at("sph"), "<sph> needs a <fluid> element in the case");
     if (m_read.count("sph") && m_read.count("dem") && !m_read.count("slurry"))
@@ -956,20 +962,18 @@ class CaseReader {
  private:
   void parseDocument(const std::string& xml) {
     if (m_doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
-      throw core::InputError(m_source, std::max(1, m_doc.ErrorLineNum()),
-                             "malformed XML: " + malformedXmlText(m_doc));
+      throw core::InputError(m_source, std::max(1, m_doc.ErrorLineNum()), "malformed XML: " + malformedXmlText(m_doc));
     const XMLElement* root = m_doc.RootElement();
     if (!root) throw core::InputError(m_source, 1, "no root element (expected <millsim>)");
     if (std::string(root->Name()) != kRootTag)
-      throw core::InputError(
-          m_source, root->GetLineNum(),
-          "root element is <" + std::string(root->Name()) + ">, expected <millsim>");
+      throw core::InputError(m_source, root->GetLineNum(),
+                             "root element is <" + std::string(root->Name()) + ">, expected <millsim>");
     // tinyxml2 accepts content after the root; a second root is a pasted case, not intent.
     for (const XMLNode* n = root->NextSibling(); n; n = n->NextSibling()) {
       if (const XMLElement* e = n->ToElement())
-        throw core::InputError(m_source, e->GetLineNum(),
-                               "unexpected element <" + std::string(e->Name()) +
-                                   "> after </millsim> (a case has one root)");
+        throw core::InputError(
+            m_source, e->GetLineNum(),
+            "unexpected element <" + std::string(e->Name()) + "> after </millsim> (a case has one root)");
       if (n->ToText() && !trim(n->Value()).empty())
         throw core::InputError(m_source, n->GetLineNum(), "unexpected text after </millsim>");
     }
@@ -994,8 +998,8 @@ class CaseReader {
       std::vector<std::string> known;
       for (const auto& e : schema().elements)
         if (!e.path.empty()) known.push_back(e.path);
-      failOverride(text, "unknown element '" + element_path + "' (expected one of: " +
-                             joinList(known) + ")" + didYouMean(element_path, known));
+      failOverride(text, "unknown element '" + element_path + "' (expected one of: " + joinList(known) + ")" +
+                             didYouMean(element_path, known));
     }
     const AttrSpec* attr = schema().attribute(element_path, name);
     if (!attr)
@@ -1035,27 +1039,23 @@ class CaseReader {
   // An element-level problem: file:line, or the override that created the element.
   [[noreturn]] void failElement(const XMLElement& el, const std::string& message) const {
     const auto created = m_created_by.find(&el);
-    if (el.GetLineNum() == 0 && created != m_created_by.end())
-      failOverride(created->second, message);
+    if (el.GetLineNum() == 0 && created != m_created_by.end()) failOverride(created->second, message);
     throw core::InputError(m_source, el.GetLineNum(), message);
   }
 
   // An attribute-level problem: `<tag attr="value">: message` at the attribute's line, or
   // `--set path=value: message` when an override put the value there.
-  [[noreturn]] void failAttribute(const XMLElement& el, const XMLAttribute& attr,
-                                  const std::string& message) const {
+  [[noreturn]] void failAttribute(const XMLElement& el, const XMLAttribute& attr, const std::string& message) const {
     const auto from_override = m_override_of.find({&el, attr.Name()});
     if (from_override != m_override_of.end()) failOverride(from_override->second, message);
     const int line = attr.GetLineNum() > 0 ? attr.GetLineNum() : el.GetLineNum();
     throw core::InputError(m_source, line,
-                           "<" + std::string(el.Name()) + " " + attr.Name() + "=\"" + attr.Value() +
-                               "\">: " + message);
+                           "<" + std::string(el.Name()) + " " + attr.Name() + "=\"" + attr.Value() + "\">: " + message);
   }
 
   void readElement(const XMLElement& el, const ElementSpec& spec, Scene& scene) {
     const std::string tag = spec.tag();
-    if (el.GetLineNum() > 0)
-      scene.element_lines[spec.path.empty() ? kRootTag : spec.path] = el.GetLineNum();
+    if (el.GetLineNum() > 0) scene.element_lines[spec.path.empty() ? kRootTag : spec.path] = el.GetLineNum();
     m_read[spec.path] = &el;
     if (spec.present) spec.present(scene) = true;
 
@@ -1063,9 +1063,9 @@ class CaseReader {
       if (!n->ToText()) continue;
       const std::string content = trim(n->Value());
       if (!content.empty())
-        throw core::InputError(m_source, n->GetLineNum() > 0 ? n->GetLineNum() : el.GetLineNum(),
-                               "<" + tag + ">: unexpected text '" + content.substr(0, 40) +
-                                   "' (values go in attributes)");
+        throw core::InputError(
+            m_source, n->GetLineNum() > 0 ? n->GetLineNum() : el.GetLineNum(),
+            "<" + tag + ">: unexpected text '" + content.substr(0, 40) + "' (values go in attributes)");
     }
 
     for (const XMLAttribute* a = el.FirstAttribute(); a; a = a->Next()) {
@@ -1074,8 +1074,8 @@ class CaseReader {
         const int line = a->GetLineNum() > 0 ? a->GetLineNum() : el.GetLineNum();
         throw core::InputError(m_source, line,
                                "<" + tag + ">: unknown attribute '" + a->Name() +
-                                   "' (expected one of: " + joinList(attributeNames(spec.path)) +
-                                   ")" + didYouMean(a->Name(), attributeNames(spec.path)));
+                                   "' (expected one of: " + joinList(attributeNames(spec.path)) + ")" +
+                                   didYouMean(a->Name(), attributeNames(spec.path)));
       }
       readValue(el, *a, *attr, scene);
     }
@@ -1083,8 +1083,7 @@ class CaseReader {
     std::map<std::string, std::vector<std::string>> groups;  // one_of tag -> attributes given
     for (const AttrSpec* attr : schema().attributesOf(spec.path)) {
       const bool given = el.Attribute(attr->name.c_str()) != nullptr;
-      if (attr->required && !given)
-        failElement(el, "<" + tag + ">: missing required attribute '" + attr->name + "'");
+      if (attr->required && !given) failElement(el, "<" + tag + ">: missing required attribute '" + attr->name + "'");
       if (!attr->one_of.empty()) {
         auto& group = groups[attr->one_of];
         if (given) group.push_back(attr->name);
@@ -1095,22 +1094,19 @@ class CaseReader {
       std::vector<std::string> members;
       for (const AttrSpec* attr : schema().attributesOf(spec.path))
         if (attr->one_of == group_tag) members.push_back(attr->name);
-      if (given.empty())
-        failElement(el, "<" + tag + ">: one of " + joinList(members, " or ") + " is required");
-      failElement(el, "<" + tag + ">: " + joinList(given, " and ") +
-                          " are mutually exclusive (give only one)");
+      if (given.empty()) failElement(el, "<" + tag + ">: one of " + joinList(members, " or ") + " is required");
+      failElement(el, "<" + tag + ">: " + joinList(given, " and ") + " are mutually exclusive (give only one)");
     }
 
     const auto children = schema().childrenOf(spec.path);
     std::map<std::string, int> seen;  // tag -> line of its first occurrence
-    for (const XMLElement* child = el.FirstChildElement(); child;
-         child = child->NextSiblingElement()) {
+    for (const XMLElement* child = el.FirstChildElement(); child; child = child->NextSiblingElement()) {
       const std::string child_tag = child->Name();
       const ElementSpec* child_spec = schema().element(joinPath(spec.path, child_tag));
       if (!child_spec) failElement(*child, unknownElementText(child_tag, tag, spec.path, children));
       if (const auto first = seen.find(child_tag); first != seen.end())
-        failElement(*child, "duplicate element <" + child_tag + "> under <" + tag +
-                                "> (first at line " + std::to_string(first->second) + ")");
+        failElement(*child, "duplicate element <" + child_tag + "> under <" + tag + "> (first at line " +
+                                std::to_string(first->second) + ")");
       seen[child_tag] = child->GetLineNum();
       readElement(*child, *child_spec, scene);
     }
@@ -1119,51 +1115,41 @@ class CaseReader {
         failElement(el, "<" + tag + ">: missing required element <" + child_spec->tag() + ">");
   }
 
-  static std::string unknownElementText(const std::string& child_tag, const std::string& tag,
-                                        const std::string& path,
+  static std::string unknownElementText(const std::string& child_tag, const std::string& tag, const std::string& path,
                                         const std::vector<const ElementSpec*>& children) {
     std::vector<std::string> names;
     for (const ElementSpec* c : children) names.push_back(c->tag());
     std::string message = "unknown element <" + child_tag + "> under <" + tag + ">";
-    message += names.empty()
-                   ? " (it takes no elements)"
-                   : " (expected one of: " + joinList(names) + ")" + didYouMean(child_tag, names);
+    message += names.empty() ? " (it takes no elements)"
+                             : " (expected one of: " + joinList(names) + ")" + didYouMean(child_tag, names);
     // A known element in the wrong place is a common slip: say where it belongs.
     for (const auto& e : schema().elements)
       if (!e.path.empty() && e.tag() == child_tag && e.parent() != path)
-        message +=
-            "; <" + child_tag + "> belongs under <" +
-            (e.parent().empty() ? std::string(kRootTag) : schema().element(e.parent())->tag()) +
-            ">";
+        message += "; <" + child_tag + "> belongs under <" +
+                   (e.parent().empty() ? std::string(kRootTag) : schema().element(e.parent())->tag()) + ">";
     return message;
   }
 
-  void readValue(const XMLElement& el, const XMLAttribute& a, const AttrSpec& attr,
-                 Scene& scene) const {
+  void readValue(const XMLElement& el, const XMLAttribute& a, const AttrSpec& attr, Scene& scene) const {
     const std::string_view value = a.Value();
     switch (attr.kind) {
       case Kind::Number: {
         double v = 0.0;
-        if (!parseDouble(value, v))
-          failAttribute(el, a, "expected a number" + unitSuffix(attr.unit));
-        if (!attr.bounds.admits(v))
-          failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
+        if (!parseDouble(value, v)) failAttribute(el, a, "expected a number" + unitSuffix(attr.unit));
+        if (!attr.bounds.admits(v)) failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
         attr.number(scene) = v;
         break;
       }
       case Kind::Integer: {
         int v = 0;
-        if (!parseInt(value, v))
-          failAttribute(el, a, "expected an integer" + unitSuffix(attr.unit));
-        if (!attr.bounds.admits(v))
-          failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
+        if (!parseInt(value, v)) failAttribute(el, a, "expected an integer" + unitSuffix(attr.unit));
+        if (!attr.bounds.admits(v)) failAttribute(el, a, mustBe(attr.bounds) + unitSuffix(attr.unit));
         attr.integer(scene) = v;
         break;
       }
       case Kind::Seed: {
         std::uint64_t v = 0;
-        if (!parseUint64(value, v))
-          failAttribute(el, a, "expected an integer in [0, 18446744073709551615]");
+        if (!parseUint64(value, v)) failAttribute(el, a, "expected an integer in [0, 18446744073709551615]");
         attr.seed(scene) = v;
         break;
       }
@@ -1207,8 +1193,8 @@ class CaseReader {
       const XMLElement* el = m_read.at(path);
       Scene defaults;
       const AttrSpec* attr = schema().attribute(check.element, check.name);
-      failElement(*el, check.element + "." + check.name + " = " +
-                           formatNumber(attr->number(defaults)) + " (default): " + message);
+      failElement(*el, check.element + "." + check.name + " = " + formatNumber(attr->number(defaults)) +
+                           " (default): " + message);
     }
   }
 
@@ -1288,16 +1274,14 @@ std::string defaultText(const AttrSpec& a) {
 
 }  // namespace
 
-Scene loadCaseText(const std::string& xml, const std::string& source_name,
-                   const std::vector<std::string>& overrides) {
+Scene loadCaseText(const std::string& xml, const std::string& source_name, const std::vector<std::string>& overrides) {
   return CaseReader(source_name).read(xml, overrides);
 }
 
 Scene loadCaseFile(const std::string& path, const std::vector<std::string>& overrides) {
   std::error_code ec;
   // A directory opens as a stream on Linux and then reads as empty; reject it up front.
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw core::InputError(path + ": cannot open case file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw core::InputError(path + ": cannot open case file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw core::InputError(path + ": cannot open case file");
   std::ostringstream text;
@@ -1315,22 +1299,25 @@ std::string describeCaseFormat() {
     for (std::string p = e.path; !p.empty(); p = s.element(p)->parent())
       nested = "<" + s.element(p)->tag() + ">" + nested;
     md << "| `" << (e.path.empty() ? "<millsim>" : "<millsim>" + nested) << "` | "
-       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | " << (e.required ? "yes" : e.required_with.empty() ? "no" : "with <" + s.element(e.required_with)->tag() + ">" + (e.unless.empty() ? "" : " unless <" + s.element(e.unless)->tag() + ">"))
+       << (e.path.empty() ? "(root)" : "`" + e.path + "`") << " | "
+       << (e.required                ? "yes"
+           : e.required_with.empty() ? "no"
+                                     : "with <" + s.element(e.required_with)->tag() + ">" +
+                                           (e.unless.empty() ? "" : " unless <" + s.element(e.unless)->tag() + ">"))
        << " | " << markdownCell(e.description) << " |\n";
   }
   md << "\n| Attribute (`--set` path) | Type | Unit | Default | Allowed | Description |\n"
      << "|---|---|---|---|---|---|\n";
   for (const auto& a : s.attributes)
-    md << "| `" << a.path() << "` | " << kindName(a.kind) << " | "
-       << (a.unit.empty() ? "-" : a.unit) << " | " << markdownCell(defaultText(a)) << " | "
-       << markdownCell(allowedText(a)) << " | " << markdownCell(a.description) << " |\n";
+    md << "| `" << a.path() << "` | " << kindName(a.kind) << " | " << (a.unit.empty() ? "-" : a.unit) << " | "
+       << markdownCell(defaultText(a)) << " | " << markdownCell(allowedText(a)) << " | " << markdownCell(a.description)
+       << " |\n";
   md << "\nRules over more than one attribute:\n\n";
   std::map<std::string, std::vector<std::string>> groups;
   for (const auto& a : s.attributes)
     if (!a.one_of.empty()) groups[a.element + "\n" + a.one_of].push_back("`" + a.path() + "`");
   for (const auto& [key, members] : groups)
-    md << "- exactly one of " << joinList(members, " and ")
-       << " is given (a `--set` of one removes the other)\n";
+    md << "- exactly one of " << joinList(members, " and ") << " is given (a `--set` of one removes the other)\n";
   for (const auto& c : s.checks) md << "- " << c.rule << "\n";
   return md.str();
 }

@@ -31,10 +31,11 @@ namespace millsim::sph {
 
 using core::Vec3;
 
-// Solves a x = b for a small dense N x N system by Gaussian elimination with partial pivoting
-// (a and b are overwritten). Returns false, leaving x untouched, when |det a| < det_limit.
-template <class T, int N>
-MILLSIM_HD bool solveSmall(T (&a)[N][N], T (&b)[N], T (&x)[N], T det_limit) {
+// Solves a x_m = b_m for a small dense N x N system and M right-hand sides by Gaussian
+// elimination with partial pivoting (a and b are overwritten). Returns false, leaving x
+// untouched, when |det a| < det_limit.
+template <class T, int N, int M>
+MILLSIM_HD bool solveSmallMulti(T (&a)[N][N], T (&b)[M][N], T (&x)[M][N], T det_limit) {
   auto mag = [](T v) { return v < T(0) ? -v : v; };
   T det = T(1);
   for (int c = 0; c < N; ++c) {
@@ -47,9 +48,11 @@ MILLSIM_HD bool solveSmall(T (&a)[N][N], T (&b)[N], T (&x)[N], T det_limit) {
         a[c][k] = a[p][k];
         a[p][k] = t;
       }
-      const T t = b[c];
-      b[c] = b[p];
-      b[p] = t;
+      for (int m = 0; m < M; ++m) {
+        const T t = b[m][c];
+        b[m][c] = b[m][p];
+        b[m][p] = t;
+      }
       det = -det;
     }
     det *= a[c][c];
@@ -57,15 +60,26 @@ MILLSIM_HD bool solveSmall(T (&a)[N][N], T (&b)[N], T (&x)[N], T det_limit) {
     for (int r = c + 1; r < N; ++r) {
       const T f = a[r][c] / a[c][c];
       for (int k = c; k < N; ++k) a[r][k] -= f * a[c][k];
-      b[r] -= f * b[c];
+      for (int m = 0; m < M; ++m) b[m][r] -= f * b[m][c];
     }
   }
   if (!(mag(det) >= det_limit)) return false;
-  for (int r = N - 1; r >= 0; --r) {
-    T s = b[r];
-    for (int k = r + 1; k < N; ++k) s -= a[r][k] * x[k];
-    x[r] = s / a[r][r];
-  }
+  for (int m = 0; m < M; ++m)
+    for (int r = N - 1; r >= 0; --r) {
+      T s = b[m][r];
+      for (int k = r + 1; k < N; ++k) s -= a[r][k] * x[m][k];
+      x[m][r] = s / a[r][r];
+    }
+  return true;
+}
+
+// One right-hand side.
+template <class T, int N>
+MILLSIM_HD bool solveSmall(T (&a)[N][N], T (&b)[N], T (&x)[N], T det_limit) {
+  T bm[1][N], xm[1][N];
+  for (int k = 0; k < N; ++k) bm[0][k] = b[k];
+  if (!solveSmallMulti<T, N, 1>(a, bm, xm, det_limit)) return false;
+  for (int k = 0; k < N; ++k) x[k] = xm[0][k];
   return true;
 }
 
@@ -75,7 +89,14 @@ inline constexpr double kMdbcDetLimit = 1e-3;
 
 // Density of each wall particle from the fluid around its ghost node. Run over the wall slots
 // [first, first + count) after the cell sort; reads fluid densities, writes wall ones.
-template <class T, class Kernel, int Dim>
+// kNoSlip (wall_velocity = no_slip_ghost): the same solve, with the fluid velocity as three
+// more right-hand sides, gives the velocity v_g at the ghost node, and the wall particle enters
+// the viscous terms with 2 v_w - v_g: the mirror of the fluid's profile through the wall
+// surface, which for a linear shear profile is that profile continued into the wall, exactly,
+// at every layer. (Adami's Shepard mean around the wall particle itself, WallNoSlipVelocity,
+// gives every layer about the velocity of the first fluid row: the deeper layers see a weaker
+// shear than the real one.)
+template <class T, class Kernel, int Dim, bool kNoSlip = false>
 struct MdbcDensity {
   neighbors::CellListView<T> fluid_cells;
   const Vec3<T>* pos;
@@ -86,6 +107,13 @@ struct MdbcDensity {
   T cos_t, sin_t;  // rotation of the moving walls since the start
   int first;
   T* rho;
+  const Vec3<T>* vel = nullptr;  // kNoSlip: the particles' velocities (walls: the wall's)
+  Vec3<T>* visc_vel = nullptr;   // kNoSlip: the walls' velocity in the viscous terms
+  // kNoSlip: the turning of the moving walls (about z) and of the bodies, for the wall's velocity
+  // at the surface point x_b + g/2 rather than at the particle (body: nullptr without bodies).
+  T omega_z = T(0);
+  const int* body = nullptr;
+  const Vec3<T>* body_omega = nullptr;
   MILLSIM_HD void operator()(int k) const {
     const int b = first + k;
     const int c = code[b];
@@ -95,8 +123,9 @@ struct MdbcDensity {
     if (c == kBoundMoving) g = {cos_t * g.x - sin_t * g.y, sin_t * g.x + cos_t * g.y, g.z};
     const Vec3<T> xg = pos[b] + g;
     constexpr int N = Dim + 1;
+    constexpr int M = kNoSlip ? 1 + Dim : 1;  // density, then the velocity's components
     T a[N][N] = {};
-    T rhs[N] = {};
+    T rhs[M][N] = {};
     fluid_cells.forEachWithin(xg, support2, pos, [&](int j, Vec3<T> d, T r2) {
       // d = x_g - x_j
       const T r = std::sqrt(r2);
@@ -104,28 +133,47 @@ struct MdbcDensity {
       const T vol = mass / rho[j];
       const T e[3] = {-d.x, -d.y, -d.z};  // x_j - x_g
       const T gw[3] = {fac * d.x, fac * d.y, fac * d.z};
+      T f[M];
+      f[0] = mass;
+      if constexpr (kNoSlip) {
+        const T v[3] = {vel[j].x, vel[j].y, vel[j].z};
+        for (int q = 0; q < Dim; ++q) f[q + 1] = vol * v[q];
+      }
       a[0][0] += vol * w;
-      rhs[0] += mass * w;
+      for (int m = 0; m < M; ++m) rhs[m][0] += f[m] * w;
       for (int q = 0; q < Dim; ++q) {
         a[0][q + 1] += vol * w * e[q];
         a[q + 1][0] += vol * gw[q];
-        rhs[q + 1] += mass * gw[q];
+        for (int m = 0; m < M; ++m) rhs[m][q + 1] += f[m] * gw[q];
         for (int s = 0; s < Dim; ++s) a[q + 1][s + 1] += vol * gw[q] * e[s];
       }
     });
     if (!(a[0][0] > T(0))) {
       rho[b] = rho0;
+      if constexpr (kNoSlip) visc_vel[b] = vel[b];
       return;
     }
-    const T shepard = rhs[0] / a[0][0];
-    T x[N];
-    T value = shepard;
-    if (solveSmall<T, N>(a, rhs, x, T(kMdbcDetLimit))) {
+    // Shepard values, kept where the matrix is nearly singular.
+    T value[M];
+    for (int m = 0; m < M; ++m) value[m] = rhs[m][0] / a[0][0];
+    T x[M][N];
+    if (solveSmallMulti<T, N, M>(a, rhs, x, T(kMdbcDetLimit))) {
       const T gv[3] = {g.x, g.y, g.z};
-      value = x[0];
-      for (int q = 0; q < Dim; ++q) value -= x[q + 1] * gv[q];
+      value[0] = x[0][0];
+      for (int q = 0; q < Dim; ++q) value[0] -= x[0][q + 1] * gv[q];
+      for (int m = 1; m < M; ++m) value[m] = x[m][0];  // the velocity at the ghost node
     }
-    rho[b] = value > rho0 ? value : rho0;
+    rho[b] = value[0] > rho0 ? value[0] : rho0;
+    if constexpr (kNoSlip) {
+      const Vec3<T> vg = {value[1], value[2], Dim == 3 ? value[M - 1] : T(0)};
+      // The wall's velocity where the mirror plane is, x_b + g/2: with a turning wall the
+      // particle's own (a layer deeper) would over-turn the mirrored profile by omega |g|; a
+      // fluid turning with the wall is then held exactly (a linear field again).
+      Vec3<T> w = vel[b];
+      if (c == kBoundMoving) w += (T(0.5) * omega_z) * Vec3<T>{-g.y, g.x, T(0)};
+      if (c == kBoundBody && body && body[b] >= 0) w += core::cross(body_omega[body[b]], T(0.5) * g);
+      visc_vel[b] = T(2) * w - vg;
+    }
   }
 };
 

@@ -20,7 +20,7 @@ struct SphSetup {
   bool shifting = false;
   double dp = 0, h = 0, c0 = 0, rho0 = 1000, gamma = 7;
   double alpha = 0.1, visco_bound_factor = 1.0, nu = 1e-6;
-  std::string wall_velocity = "dbc";  // dbc | no_slip (walls in the viscous terms: WallNoSlipVelocity)
+  std::string wall_velocity = "dbc";  // dbc | no_slip (WallNoSlipVelocity) | no_slip_ghost (mdbc only: MdbcDensity)
   std::string boundary = "dbc";       // dbc | mdbc: wall densities by continuity or from ghost nodes (mdbc.hpp)
   double ddt_value = 0.1;
   double eta2_factor = 0.01;  // eta^2 = factor h^2

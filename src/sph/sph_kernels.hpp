@@ -28,13 +28,13 @@ struct SphView {
   T* rho;
   int* code;
   T* press;
-  Vec3<T>* ace;        // dv/dt without gravity (fluid); fluid force / mass (body particles)
-  T* drho;             // drho/dt
-  T* visc_dt;          // max_b |h v_ab . r_ab| / (r^2 + eta^2), for the time step (eq. 40)
-  Vec3<T>* shift_grad; // grad C = sum_b V_b grad W (shifting)
-  T* shift_div;        // div r = -sum_b V_b r_ab . grad W (free-surface detection)
-  Sym3<T>* strain;     // strain rate S (laminar+SPS)
-  Sym3<T>* tau;        // SPS stress from the previous step
+  Vec3<T>* ace;         // dv/dt without gravity (fluid); fluid force / mass (body particles)
+  T* drho;              // drho/dt
+  T* visc_dt;           // max_b |h v_ab . r_ab| / (r^2 + eta^2), for the time step (eq. 40)
+  Vec3<T>* shift_grad;  // grad C = sum_b V_b grad W (shifting)
+  T* shift_div;         // div r = -sum_b V_b r_ab . grad W (free-surface detection)
+  Sym3<T>* strain;      // strain rate S (laminar+SPS)
+  Sym3<T>* tau;         // SPS stress from the previous step
   // Velocity a particle brings into the viscous terms: its own (fluid, and walls with
   // wall_velocity = dbc: then this is `vel`) or a wall's no-slip velocity (WallNoSlipVelocity).
   const Vec3<T>* visc_vel;
@@ -150,7 +150,8 @@ struct ClearPairSums {
 // plain v_w the wall layers all move at v_w, the viscous operator sees a weaker shear than the
 // real one, and the fluid slips about a spacing past the wall (docs/validation.md, settling
 // sphere). Density and pressure stay DBC's. Fluid particles keep their own velocity; a wall
-// particle with no fluid within 2h keeps v_w.
+// particle with no fluid within 2h keeps v_w. With no_slip_ghost (ghost set) the wall particles
+// that have a ghost node take theirs from it instead (MdbcDensity<..., kNoSlip>): skipped here.
 template <class T, class Kernel>
 struct WallNoSlipVelocity {
   neighbors::CellListView<T> fluid_cells;
@@ -160,12 +161,14 @@ struct WallNoSlipVelocity {
   Kernel kernel;
   T support2;
   Vec3<T>* visc_vel;
+  const Vec3<T>* ghost = nullptr;
   MILLSIM_HD void operator()(int a) const {
     const int c = code[a];
     if (c == kFluid || isExcluded(c)) {
       visc_vel[a] = vel[a];
       return;
     }
+    if (ghost && (ghost[a].x != T(0) || ghost[a].y != T(0) || ghost[a].z != T(0))) return;
     const Vec3<T> xa = pos[a];
     T w_sum = T(0);
     Vec3<T> wv_sum = core::zero3<T>();
@@ -185,9 +188,7 @@ struct SpsUpdate {
   const T* rho;
   const int* code;
   Sym3<T>* tau;
-  MILLSIM_HD void operator()(int i) const {
-    tau[i] = code[i] == kFluid ? sps(strain[i], rho[i]) : zeroSym3<T>();
-  }
+  MILLSIM_HD void operator()(int i) const { tau[i] = code[i] == kFluid ? sps(strain[i], rho[i]) : zeroSym3<T>(); }
 };
 
 // |dv/dt + g| of fluid particles (force condition of the time step, eq. 40).

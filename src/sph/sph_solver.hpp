@@ -44,12 +44,18 @@ struct FluidSum {
   MILLSIM_HD double operator()(int i) const {
     const int c = code[i];
     switch (what) {
-      case 0: return c == kFluid ? 0.5 * double(mass) * double(core::norm2(vel[i])) : 0.0;
-      case 1: return c == kFluid ? -double(mass) * double(core::dot(g, pos[i])) : 0.0;
-      case 2: return c == kFluid ? 1.0 : 0.0;
-      case 3: return c == kExcludedDensity ? 1.0 : 0.0;
-      case 4: return c == kExcludedDomain ? 1.0 : 0.0;
-      default: return c == kBoundFixed || c == kBoundMoving || c == kBoundBody ? 1.0 : 0.0;
+      case 0:
+        return c == kFluid ? 0.5 * double(mass) * double(core::norm2(vel[i])) : 0.0;
+      case 1:
+        return c == kFluid ? -double(mass) * double(core::dot(g, pos[i])) : 0.0;
+      case 2:
+        return c == kFluid ? 1.0 : 0.0;
+      case 3:
+        return c == kExcludedDensity ? 1.0 : 0.0;
+      case 4:
+        return c == kExcludedDomain ? 1.0 : 0.0;
+      default:
+        return c == kBoundFixed || c == kBoundMoving || c == kBoundBody ? 1.0 : 0.0;
     }
   }
 };
@@ -64,10 +70,14 @@ struct FluidMax {
   MILLSIM_HD double operator()(int i) const {
     if (code[i] != kFluid) return -1e300;
     switch (what) {
-      case 0: return std::sqrt(double(core::norm2(vel[i])));
-      case 1: return double(pos[i].x);
-      case 2: return double(rho[i]);
-      default: return -double(rho[i]);
+      case 0:
+        return std::sqrt(double(core::norm2(vel[i])));
+      case 1:
+        return double(pos[i].x);
+      case 2:
+        return double(rho[i]);
+      default:
+        return -double(rho[i]);
     }
   }
 };
@@ -148,9 +158,8 @@ class SphSolver final : public SphEngine {
     m_symplectic = s.integrator == "symplectic";
     m_evaluations_per_step = m_symplectic ? 2 : 1;
     withKernel([&](auto kernel) {
-      m_dt_limits = diffusionDtLimits(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h,
-                                      s.laminar() ? s.nu : 0.0, s.ddt == "none" ? 0.0 : s.ddt_value,
-                                      s.c0, m_symplectic, s.verlet_steps);
+      m_dt_limits = diffusionDtLimits(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h, s.laminar() ? s.nu : 0.0,
+                                      s.ddt == "none" ? 0.0 : s.ddt_value, s.c0, m_symplectic, s.verlet_steps);
     });
     // A fixed step past a limit (the viscous one without its margin) is refused, naming it.
     auto refuse = [&](double limit, const std::string& term) {
@@ -169,9 +178,8 @@ class SphSolver final : public SphEngine {
   double ddtDtLimit() const override { return m_dt_limits.ddt; }
 
   double interactionsPerEvaluation() override {
-    return backend::reduceSum<double>(Space{}, m_n,
-                                      CountInteractions<T>{m_cells.view(0), m_cells.view(1), m_pos.data(),
-                                                           m_code.data(), m_support2});
+    return backend::reduceSum<double>(
+        Space{}, m_n, CountInteractions<T>{m_cells.view(0), m_cells.view(1), m_pos.data(), m_code.data(), m_support2});
   }
 
   const char* backendName() const override { return Space::kName; }
@@ -201,6 +209,8 @@ class SphSolver final : public SphEngine {
       m_offset.copyFromHost(offset);
       setBodyMembers(s);
     }
+    if (m_setup.wall_velocity == "no_slip_ghost" && m_setup.boundary != "mdbc")
+      throw std::invalid_argument("SphSolver: wall_velocity = no_slip_ghost needs boundary = mdbc (its ghost nodes)");
     if (m_setup.boundary == "mdbc") {
       if (s.ghost.size() != 3 * n)
         throw std::invalid_argument("SphSolver: boundary = mdbc needs a ghost offset per particle (" +
@@ -234,7 +244,7 @@ class SphSolver final : public SphEngine {
       m_shift_grad.resize(n, core::zero3<T>());
       m_shift_div.resize(n, T(0));
     }
-    if (m_setup.wall_velocity == "no_slip") m_wall_visc_vel.resize(n, core::zero3<T>());
+    if (m_setup.wall_velocity != "dbc") m_wall_visc_vel.resize(n, core::zero3<T>());
     if (m_setup.sps()) {
       m_strain.resize(n, zeroSym3<T>());
       m_tau.resize(n, zeroSym3<T>());
@@ -313,7 +323,8 @@ class SphSolver final : public SphEngine {
     if (m_has_moving) m_pos0.copyFromHost(vec(s.pos0, "the moving walls' reference positions"));
     if (!m_symplectic) {
       m_vel_m1.copyFromHost(vec(s.vel_m1, "Verlet's previous velocity"));
-      if (s.rho_m1.size() != n) throw core::InputError("SPH restart: Verlet's previous density does not match the particles");
+      if (s.rho_m1.size() != n)
+        throw core::InputError("SPH restart: Verlet's previous density does not match the particles");
       m_rho_m1.copyFromHost(std::vector<T>(s.rho_m1.begin(), s.rho_m1.end()));
     }
     if (s.impulse.size() != static_cast<std::size_t>(m_bodies))
@@ -330,7 +341,8 @@ class SphSolver final : public SphEngine {
 
   double nextDt() const override {
     if (m_setup.fixed_dt) return m_setup.dt_fixed;
-    const double acc = backend::reduceMax<T>(Space{}, m_n, T(0), FluidAcceleration<T>{m_ace.data(), m_code.data(), m_gravity});
+    const double acc =
+        backend::reduceMax<T>(Space{}, m_n, T(0), FluidAcceleration<T>{m_ace.data(), m_code.data(), m_gravity});
     const double visc = backend::reduceMax<T>(Space{}, m_n, T(0), ReadVisc<T>{m_visc.data(), m_code.data()});
     // reduceMax keeps a NaN: one NaN particle stops the run here, with its cause.
     if (!(acc == acc) || !(visc == visc))
@@ -370,16 +382,16 @@ class SphSolver final : public SphEngine {
 
   void endStep(double dt_in, const SphMotion& end) override {
     const T dt = T(dt_in);
-    const FluidChecks<T> checks{T(m_setup.rho_min), T(m_setup.rho_max), m_lo, m_hi,
-                                T(m_setup.shift_coef * m_setup.h), T(m_setup.shift_tfs)};
+    const FluidChecks<T> checks{T(m_setup.rho_min),  T(m_setup.rho_max), m_lo, m_hi, T(m_setup.shift_coef * m_setup.h),
+                                T(m_setup.shift_tfs)};
     const SphView<T> p = view();
     if (!m_symplectic) {
       const bool euler = verletEulerStep();
       withShift([&](auto shift) {
-        backend::parallelFor(Space{}, m_n,
-                             VerletUpdate<T, decltype(shift)::value>{p, m_vel_m1.data(), m_rho_m1.data(), m_pos0.data(),
-                                                                     motionOf(end), checks, m_gravity, dt, m_eos.rho0,
-                                                                     euler});
+        backend::parallelFor(
+            Space{}, m_n,
+            VerletUpdate<T, decltype(shift)::value>{p, m_vel_m1.data(), m_rho_m1.data(), m_pos0.data(), motionOf(end),
+                                                    checks, m_gravity, dt, m_eos.rho0, euler});
       });
     } else {
       withShift([&](auto shift) {
@@ -398,8 +410,8 @@ class SphSolver final : public SphEngine {
   SphSums sums() const override {
     SphSums s;
     auto sum = [&](int what) {
-      return backend::reduceSum<double>(Space{}, m_n,
-                                        FluidSum<T>{m_pos.data(), m_vel.data(), m_code.data(), m_gravity, m_mass, what});
+      return backend::reduceSum<double>(
+          Space{}, m_n, FluidSum<T>{m_pos.data(), m_vel.data(), m_code.data(), m_gravity, m_mass, what});
     };
     auto most = [&](int what) {
       return backend::reduceMax<double>(Space{}, m_n, -1e300,
@@ -485,20 +497,19 @@ class SphSolver final : public SphEngine {
   }
 
   std::map<std::string, std::size_t> memoryBytes() const override {
-    return {{"sph.particles", m_pos.bytes() + m_vel.bytes() + m_rho.bytes() + m_code.bytes() + m_id.bytes() +
-                                  m_pos0.bytes()},
+    return {{"sph.particles",
+             m_pos.bytes() + m_vel.bytes() + m_rho.bytes() + m_code.bytes() + m_id.bytes() + m_pos0.bytes()},
             {"sph.bodies", m_body.bytes() + m_offset.bytes() + m_body_pos.bytes() + m_body_vel.bytes() +
                                m_body_omega.bytes() + m_body_start.bytes() + m_body_members.bytes() +
                                m_slot_of.bytes() + m_load_force.bytes() + m_load_torque.bytes()},
-            {"sph.integrator", m_vel_m1.bytes() + m_rho_m1.bytes() + m_pos_pre.bytes() + m_vel_pre.bytes() +
-                                   m_rho_pre.bytes()},
-            {"sph.forces",
-             m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes() + m_wall_visc_vel.bytes()},
+            {"sph.integrator",
+             m_vel_m1.bytes() + m_rho_m1.bytes() + m_pos_pre.bytes() + m_vel_pre.bytes() + m_rho_pre.bytes()},
+            {"sph.forces", m_press.bytes() + m_ace.bytes() + m_drho.bytes() + m_visc.bytes() + m_wall_visc_vel.bytes()},
             {"sph.shifting", m_shift_grad.bytes() + m_shift_div.bytes()},
             {"sph.sps", m_strain.bytes() + m_tau.bytes()},
             {"sph.mdbc", m_ghost.bytes()},
-            {"sph.reorder_scratch", m_scratch_vec.bytes() + m_scratch_real.bytes() + m_scratch_int.bytes() +
-                                        m_scratch_sym.bytes()},
+            {"sph.reorder_scratch",
+             m_scratch_vec.bytes() + m_scratch_real.bytes() + m_scratch_int.bytes() + m_scratch_sym.bytes()},
             {"neighbors", m_cells.bytes()},
             {"sph.pair_rows", m_pair_scatter.bytes()}};
   }
@@ -527,8 +538,18 @@ class SphSolver final : public SphEngine {
   bool verletEulerStep() const { return m_setup.verlet_steps > 0 && (m_step + 1) % m_setup.verlet_steps == 0; }
 
   SphView<T> view() {
-    return {m_pos.data(),   m_vel.data(),        m_rho.data(),       m_code.data(),   m_press.data(), m_ace.data(),
-            m_drho.data(),  m_visc.data(),       m_shift_grad.data(), m_shift_div.data(), m_strain.data(), m_tau.data(),
+    return {m_pos.data(),
+            m_vel.data(),
+            m_rho.data(),
+            m_code.data(),
+            m_press.data(),
+            m_ace.data(),
+            m_drho.data(),
+            m_visc.data(),
+            m_shift_grad.data(),
+            m_shift_div.data(),
+            m_strain.data(),
+            m_tau.data(),
             m_wall_visc_vel.size() > 0 ? m_wall_visc_vel.data() : m_vel.data()};
   }
 
@@ -536,6 +557,7 @@ class SphSolver final : public SphEngine {
   // turn with the walls (every placement is followed by the force evaluation that reads it).
   BoundaryMotion<T> motionOf(const SphMotion& m) const {
     m_theta = m.theta;
+    m_omega = m.omega;
     const Vec3<T> c = toVec(m_setup.motion_center);
     return {c, T(std::cos(m.theta)), T(std::sin(m.theta)), T(m.omega)};
   }
@@ -561,8 +583,8 @@ class SphSolver final : public SphEngine {
   }
 
   void placeMovingBoundaries(const SphMotion& m) {
-    backend::parallelFor(Space{}, m_n,
-                         PlaceMovingBoundaries<T>{m_pos0.data(), m_pos.data(), m_vel.data(), m_code.data(), motionOf(m)});
+    backend::parallelFor(
+        Space{}, m_n, PlaceMovingBoundaries<T>{m_pos0.data(), m_pos.data(), m_vel.data(), m_code.data(), motionOf(m)});
   }
 
   // One choice per option, each a compile-time type: the pair loop holds only what is on.
@@ -633,11 +655,18 @@ class SphSolver final : public SphEngine {
     if (m_bodies > 0) backend::parallelFor(Space{}, m_n, SlotOfId{m_id.data(), m_slot_of.data()});
     if (m_ghost.size() > 0)
       withKernel([&](auto kernel) {
-        backend::parallelFor(Space{}, m_n,
-                             MdbcDensity<T, decltype(kernel), Dim>{m_cells.view(0), m_pos.data(), m_code.data(),
-                                                                   m_ghost.data(), kernel, m_support2, m_mass,
-                                                                   m_eos.rho0, T(std::cos(m_theta)),
-                                                                   T(std::sin(m_theta)), 0, m_rho.data()});
+        auto run = [&](auto no_slip) {
+          using Mdbc = MdbcDensity<T, decltype(kernel), Dim, decltype(no_slip)::value>;
+          backend::parallelFor(
+              Space{}, m_n,
+              Mdbc{m_cells.view(0), m_pos.data(), m_code.data(), m_ghost.data(), kernel, m_support2, m_mass, m_eos.rho0,
+                   T(std::cos(m_theta)), T(std::sin(m_theta)), 0, m_rho.data(), m_vel.data(), m_wall_visc_vel.data(),
+                   T(m_omega), m_bodies > 0 ? m_body.data() : nullptr, m_body_omega.data()});
+        };
+        if (m_setup.wall_velocity == "no_slip_ghost")
+          run(std::true_type{});
+        else
+          run(std::false_type{});
       });
     backend::parallelFor(Space{}, m_n, EosPressure<T>{m_eos, m_rho.data(), m_press.data()});
     const SphView<T> p = view();
@@ -645,8 +674,9 @@ class SphSolver final : public SphEngine {
       if (m_wall_visc_vel.size() > 0)
         backend::parallelFor(
             Space{}, m_n,
-            WallNoSlipVelocity<T, decltype(kernel)>{m_cells.view(0), m_pos.data(), m_vel.data(), m_code.data(),
-                                                    kernel, m_support2, m_wall_visc_vel.data()});
+            WallNoSlipVelocity<T, decltype(kernel)>{
+                m_cells.view(0), m_pos.data(), m_vel.data(), m_code.data(), kernel, m_support2, m_wall_visc_vel.data(),
+                m_setup.wall_velocity == "no_slip_ghost" ? m_ghost.data() : nullptr});
       withDdt([&](auto ddt) {
         withVisc([&](auto visc) {
           withShift([&](auto shift) {
@@ -657,12 +687,11 @@ class SphSolver final : public SphEngine {
               // visiting both sides, and wall particles search nothing).
               constexpr bool kShift = Physics::kShifting, kStrain = Physics::kStrain;
               backend::parallelFor(Space{}, m_n, ClearPairSums<T, kShift, kStrain>{p});
-              m_pair_scatter.template run<kShift, kStrain>(m_cells.view(0), m_cells.view(1), m_pos.data(), p,
-                                                           [&](auto sink) {
-                                                             return SphPairInteraction<Physics, decltype(sink)>{
-                                                                 m_cells.view(0), m_cells.view(1), p, phys, m_support2,
-                                                                 sink};
-                                                           });
+              m_pair_scatter.template run<kShift, kStrain>(
+                  m_cells.view(0), m_cells.view(1), m_pos.data(), p, [&](auto sink) {
+                    return SphPairInteraction<Physics, decltype(sink)>{
+                        m_cells.view(0), m_cells.view(1), p, phys, m_support2, sink};
+                  });
             } else {
               // GPU: every particle gathers its own sums (no atomics).
               backend::parallelFor(Space{}, m_n,
@@ -689,9 +718,9 @@ class SphSolver final : public SphEngine {
   TaitEos<T> m_eos;
   Vec3<T> m_gravity{}, m_up{}, m_lo{}, m_hi{};
   neighbors::CellList<Space, T> m_cells;  // two segments: fluid, then walls and bodies
-  SphPairScatter<T> m_pair_scatter;  // host pair loop: rows for partners across thread chunks
+  SphPairScatter<T> m_pair_scatter;       // host pair loop: rows for partners across thread chunks
   backend::Array<Space, Vec3<T>> m_pos, m_vel, m_pos0, m_vel_m1, m_pos_pre, m_vel_pre, m_ace, m_shift_grad;
-  backend::Array<Space, Vec3<T>> m_wall_visc_vel;  // wall_velocity = no_slip only
+  backend::Array<Space, Vec3<T>> m_wall_visc_vel;  // wall_velocity = no_slip, no_slip_ghost only
   backend::Array<Space, T> m_rho, m_rho_m1, m_rho_pre, m_press, m_drho, m_visc, m_shift_div;
   backend::Array<Space, int> m_code, m_id;
   // Bodies (DEM balls carrying a shell of body particles): per particle, per body.
@@ -709,7 +738,7 @@ class SphSolver final : public SphEngine {
   std::vector<Vec3<T>> m_host_body_pos, m_host_body_vel, m_host_body_omega;
   // mDBC (boundary = mdbc): ghost offsets per particle; the moving walls' angle.
   backend::Array<Space, Vec3<T>> m_ghost;
-  mutable double m_theta = 0;
+  mutable double m_theta = 0, m_omega = 0;
   backend::Array<Space, Sym3<T>> m_strain, m_tau;
   backend::Array<Space, Vec3<T>> m_scratch_vec;
   backend::Array<Space, T> m_scratch_real;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "millsim/backend/info.hpp"
+#include "support/linear_wall_flow.hpp"
 #include "support/momentum_box.hpp"
 #include "support/sph_fixture.hpp"
 
@@ -54,7 +55,8 @@ static void expectFrontsAgree(const char* boundary) {
   (void)boundary;
   GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
 #else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  if (backend::cudaDevices() == 0)
+    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
   const std::vector<double> omp = damBreakFront(false, boundary), cuda = damBreakFront(true, boundary);
   for (std::size_t k = 0; k < omp.size(); ++k) {
     std::printf("%s, T = %.1f: Z/a OpenMP %.4f, CUDA %.4f\n", boundary, 0.5 * double(k + 1), omp[k], cuda[k]);
@@ -76,7 +78,8 @@ TEST(SphCudaVsOmp, WetCouplingMomentumClosedBox) {
 #if !defined(MILLSIM_HAVE_CUDA)
   GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
 #else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  if (backend::cudaDevices() == 0)
+    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
   for (const char* integrator : {"verlet", "symplectic"}) {
     const millsim::testing::MomentumRun omp = millsim::testing::runBox(integrator, false, false);
     const millsim::testing::MomentumRun cuda = millsim::testing::runBox(integrator, false, true);
@@ -87,5 +90,21 @@ TEST(SphCudaVsOmp, WetCouplingMomentumClosedBox) {
     EXPECT_NEAR(cuda.wall_share, omp.wall_share, 0.01 * omp.wall_share) << integrator;
     EXPECT_NEAR(double(cuda.steps), double(omp.steps), 1.0) << integrator;  // dt from the same CFL rule
   }
+#endif
+}
+
+// The ghost-node no-slip velocity (MdbcDensity with kNoSlip) on the device: a rigid rotation in
+// a turning tank is held to round-off after a step, as on OpenMP (tests/unit/test_sph_mdbc.cpp:
+// 2.8e-11 of dt nu gamma / dp; Adami's no_slip 2.9).
+TEST(SphCudaVsOmp, NoSlipGhostHoldsARigidRotation) {
+#if !defined(MILLSIM_HAVE_CUDA)
+  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
+#else
+  if (backend::cudaDevices() == 0)
+    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  const double cuda = millsim::testing::linearWallFlowChange("no_slip_ghost", true, true);
+  std::printf("rigid rotation, CUDA, velocity change / (dt nu gamma / dp): %.3g\n", cuda);
+  EXPECT_LT(cuda, 1e-9);
+  EXPECT_GT(millsim::testing::linearWallFlowChange("no_slip", true, true), 1e-2);
 #endif
 }

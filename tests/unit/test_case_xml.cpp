@@ -156,17 +156,16 @@ TEST(CaseXml, PaperCaseValuesLandInScene) {
   EXPECT_FALSE(s.effect_sph);
 
   const std::string text = readFile(path);
-  const std::vector<std::pair<std::string, std::string>> keys = {
-      {"millsim", "<millsim "},
-      {"time", "<time "},
-      {"gravity", "<gravity "},
-      {"output", "<output "},
-      {"dem", "<dem "},
-      {"drum", "<drum "},
-      {"drum.lifters", "<lifters "},
-      {"charge", "<charge "},
-      {"compaction", "<compaction "},
-      {"angle_of_repose", "<angle_of_repose "}};
+  const std::vector<std::pair<std::string, std::string>> keys = {{"millsim", "<millsim "},
+                                                                 {"time", "<time "},
+                                                                 {"gravity", "<gravity "},
+                                                                 {"output", "<output "},
+                                                                 {"dem", "<dem "},
+                                                                 {"drum", "<drum "},
+                                                                 {"drum.lifters", "<lifters "},
+                                                                 {"charge", "<charge "},
+                                                                 {"compaction", "<compaction "},
+                                                                 {"angle_of_repose", "<angle_of_repose "}};
   EXPECT_EQ(s.element_lines.size(), keys.size());
   for (const auto& [key, needle] : keys) {
     ASSERT_TRUE(s.element_lines.count(key)) << key;
@@ -230,8 +229,7 @@ TEST(CaseXml, AbsentAttributesAndElementsKeepSceneDefaults) {
   EXPECT_DOUBLE_EQ(s.drum.lifters.width, defaults.drum.lifters.width);
   EXPECT_EQ(s.drum.lifters.count, 4);
   EXPECT_TRUE(s.effect_dem);
-  const std::map<std::string, int> lines = {
-      {"millsim", 1}, {"time", 2}, {"dem", 3}, {"drum", 4}, {"drum.lifters", 5}};
+  const std::map<std::string, int> lines = {{"millsim", 1}, {"time", 2}, {"dem", 3}, {"drum", 4}, {"drum.lifters", 5}};
   EXPECT_EQ(s.element_lines, lines);
 }
 
@@ -308,16 +306,14 @@ TEST(CaseXmlErrors, MalformedXmlGivesTheLineOfTheError) {
   EXPECT_EQ(twice.what.find("Error="), std::string::npos) << "tinyxml2's raw text leaked";
 
   const Failure mismatch = textFailure(small("  </drum>", "  </drun>"));
-  EXPECT_EQ(mismatch.what,
-            "t.xml:4: malformed XML: end tag does not match the open element in <drum>");
+  EXPECT_EQ(mismatch.what, "t.xml:4: malformed XML: end tag does not match the open element in <drum>");
 
   const Failure empty = textFailure("");
   EXPECT_EQ(empty.what, "t.xml:1: malformed XML: the document is empty");
 }
 
 TEST(CaseXmlErrors, RootAndStrayContent) {
-  EXPECT_EQ(textFailure("<case>\n</case>\n").what,
-            "t.xml:1: root element is <case>, expected <millsim>");
+  EXPECT_EQ(textFailure("<case>\n</case>\n").what, "t.xml:1: root element is <case>, expected <millsim>");
   EXPECT_EQ(textFailure(std::string(kSmall) + "<millsim/>\n").what,
             "t.xml:8: unexpected element <millsim> after </millsim> (a case has one root)");
   EXPECT_EQ(textFailure(small("<dem/>", "<dem>1e8</dem>")).what,
@@ -351,8 +347,7 @@ TEST(CaseXmlErrors, BoundsWithBothEnds) {
 }
 
 TEST(CaseXmlErrors, AttributeErrorsUseTheAttributesOwnLine) {
-  const Failure f =
-      textFailure(small("<dem/>", "<dem youngs_modulus=\"1e8\"\n       poisson=\"0.6\"/>"));
+  const Failure f = textFailure(small("<dem/>", "<dem youngs_modulus=\"1e8\"\n       poisson=\"0.6\"/>"));
   EXPECT_EQ(f.what, "t.xml:4: <dem poisson=\"0.6\">: must be in [0, 0.5)");
 }
 
@@ -362,8 +357,7 @@ TEST(CaseXmlErrors, UnknownAttribute) {
             "t.xml:4: <charge>: unknown attribute 'filing' (expected one of: filling, top_size, "
             "min_size, size_step, bond_exponent, seed, count); did you mean 'filling'?");
   // No hint when nothing is close.
-  EXPECT_EQ(textFailure(small("<dem/>", "<dem colour=\"red\"/>")).what.find("did you mean"),
-            std::string::npos);
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem colour=\"red\"/>")).what.find("did you mean"), std::string::npos);
 }
 
 TEST(CaseXmlErrors, UnknownElement) {
@@ -374,8 +368,7 @@ TEST(CaseXmlErrors, UnknownElement) {
             "beads, lubrication, collisions); did you mean "
             "'drum'?");
   const Failure misplaced = textFailure(small("<dem/>", "<lifters/>"));
-  EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos)
-      << misplaced.what;
+  EXPECT_NE(misplaced.what.find("; <lifters> belongs under <drum>"), std::string::npos) << misplaced.what;
   EXPECT_EQ(textFailure(small("<lifters count", "<lifters><x/></lifters><z count")).what,
             "t.xml:5: unknown element <x> under <lifters> (it takes no elements)");
 }
@@ -397,8 +390,7 @@ TEST(CaseXmlErrors, BadBoolean) {
 }
 
 TEST(CaseXmlErrors, BothOrNeitherSpeed) {
-  const Failure both =
-      textFailure(small("speed_rpm=\"40\"", "speed_rpm=\"40\" critical_fraction=\"0.3\""));
+  const Failure both = textFailure(small("speed_rpm=\"40\"", "speed_rpm=\"40\" critical_fraction=\"0.3\""));
   EXPECT_EQ(both.what,
             "t.xml:4: <drum>: speed_rpm and critical_fraction are mutually exclusive (give only "
             "one)");
@@ -437,20 +429,30 @@ TEST(CaseXmlErrors, DcdemBallsChecks) {
 TEST(CaseXmlErrors, CrossFieldChecks) {
   EXPECT_EQ(textFailure(small("height=\"0.004\"", "height=\"0.025\"")).what,
             "t.xml:5: <lifters height=\"0.025\">: must be < drum.diameter / 4 = 0.025 (m)");
-  EXPECT_EQ(
-      textFailure(small("<dem/>", "<dem/><charge top_size=\"0.01\" min_size=\"0.02\"/>")).what,
-      "t.xml:3: <charge min_size=\"0.02\">: must be <= charge.top_size = 0.01 (m)");
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem/><charge top_size=\"0.01\" min_size=\"0.02\"/>")).what,
+            "t.xml:3: <charge min_size=\"0.02\">: must be <= charge.top_size = 0.01 (m)");
   // A default that a changed attribute invalidates is blamed on the element it belongs in.
   EXPECT_EQ(textFailure(small("<dem/>", "<dem/><charge top_size=\"0.01\"/>")).what,
             "t.xml:3: charge.min_size = 0.015 (default): must be <= charge.top_size = 0.01 (m)");
 }
 
+// The ghost-node no-slip velocity needs the ghost nodes mDBC keeps.
+TEST(CaseXmlErrors, NoSlipGhostNeedsMdbc) {
+  const std::string file = (kCases / "dam_break_2d.xml").string();
+  const Failure f = failureOf([&] { loadCaseFile(file, {"sph.wall_velocity=no_slip_ghost"}); });
+  EXPECT_EQ(f.what,
+            "--set sph.wall_velocity=no_slip_ghost: no_slip_ghost takes the velocity at mDBC ghost nodes: it needs "
+            "sph.boundary = mdbc");
+  EXPECT_EQ(loadCaseFile(file, {"sph.wall_velocity=no_slip_ghost", "sph.boundary=mdbc"}).sph.wall_velocity,
+            "no_slip_ghost");
+}
+
 // ---- --set overrides ---------------------------------------------------------------------------
 
 TEST(CaseXmlOverrides, ChangeExistingValues) {
-  const Scene s = loadCaseText(kSmall, "t.xml",
-                               {"time.end=2", "drum.lifters.count=6", "dem.damping=dualsphysics",
-                                "name=renamed", "gravity.y=-1.62"});
+  const Scene s = loadCaseText(
+      kSmall, "t.xml",
+      {"time.end=2", "drum.lifters.count=6", "dem.damping=dualsphysics", "name=renamed", "gravity.y=-1.62"});
   EXPECT_DOUBLE_EQ(s.time.end, 2.0);
   EXPECT_EQ(s.drum.lifters.count, 6);
   EXPECT_EQ(s.dem.damping, "dualsphysics");
@@ -468,8 +470,7 @@ TEST(CaseXmlOverrides, CreateMissingElements) {
   std::string xml = kSmall;
   xml.replace(xml.find("  <dem/>\n"), 9, "");
   xml.replace(xml.find("    <lifters count=\"4\" height=\"0.004\"/>\n"), 41, "");
-  const Scene s =
-      loadCaseText(xml, "t.xml", {"charge.count=7", "drum.lifters.count=2", "dem.friction=0.3"});
+  const Scene s = loadCaseText(xml, "t.xml", {"charge.count=7", "drum.lifters.count=2", "dem.friction=0.3"});
   EXPECT_EQ(s.charge.count_override, 7);
   EXPECT_EQ(s.drum.lifters.count, 2);
   EXPECT_DOUBLE_EQ(s.dem.friction, 0.3);
@@ -505,8 +506,7 @@ TEST(CaseXmlOverrides, BadValue) {
   const Failure f = textFailure(kSmall, {"time.end=abc"});
   EXPECT_EQ(f.what, "--set time.end=abc: expected a number (s)");
   EXPECT_EQ(f.line, 0);
-  EXPECT_EQ(textFailure(kSmall, {"drum.diameter=-1"}).what,
-            "--set drum.diameter=-1: must be > 0 (m)");
+  EXPECT_EQ(textFailure(kSmall, {"drum.diameter=-1"}).what, "--set drum.diameter=-1: must be > 0 (m)");
   EXPECT_EQ(textFailure(kSmall, {"dem.damping=foo"}).what,
             "--set dem.damping=foo: expected one of exact, dualsphysics");
   EXPECT_EQ(textFailure(kSmall, {"drum.lifters.height=0.03"}).what,
@@ -516,8 +516,7 @@ TEST(CaseXmlOverrides, BadValue) {
 TEST(CaseXmlOverrides, CreatedElementStillNeedsItsRequiredAttributes) {
   std::string xml = kSmall;
   xml.replace(xml.find("  <time end=\"1\"/>\n"), 18, "");
-  EXPECT_EQ(textFailure(xml, {"time.dt=fixed"}).what,
-            "--set time.dt=fixed: <time>: missing required attribute 'end'");
+  EXPECT_EQ(textFailure(xml, {"time.dt=fixed"}).what, "--set time.dt=fixed: <time>: missing required attribute 'end'");
   EXPECT_DOUBLE_EQ(loadCaseText(xml, "t.xml", {"time.end=5"}).time.end, 5.0);
 }
 
@@ -571,16 +570,14 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
   // Defaults come from Scene, bounds and units from the schema.
   EXPECT_NE(md.find("| `dem.poisson` | number | - | 0.29 | [0, 0.5) |"), std::string::npos);
   EXPECT_NE(md.find("| `time.end` | number | s | required | > 0 |"), std::string::npos);
-  EXPECT_NE(md.find("| `dem.damping` | choice | - | exact | `exact`, `dualsphysics` |"),
-            std::string::npos);
+  EXPECT_NE(md.find("| `dem.damping` | choice | - | exact | `exact`, `dualsphysics` |"), std::string::npos);
   EXPECT_NE(md.find("`drum.lifters.height` < `drum.diameter` / 4"), std::string::npos);
 }
 
 // The reference section of the user docs is the generated table: a schema change that is not
 // pasted into docs/case-format.md fails here instead of leaving the docs stale.
 TEST(CaseXmlDescribe, DocsHoldTheCurrentTable) {
-  const std::string doc =
-      readFile(std::filesystem::path(MILLSIM_SOURCE_DIR) / "docs" / "case-format.md");
+  const std::string doc = readFile(std::filesystem::path(MILLSIM_SOURCE_DIR) / "docs" / "case-format.md");
   EXPECT_NE(doc.find(describeCaseFormat()), std::string::npos)
       << "paste the output of `millsim describe` into docs/case-format.md";
 }

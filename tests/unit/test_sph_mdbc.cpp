@@ -9,12 +9,15 @@
 // (faces, edges and corners), fixed and turning.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "sph/geometry.hpp"
 #include "sph/mdbc.hpp"
 #include "sph/sph_engine.hpp"
+#include "support/linear_wall_flow.hpp"
 
 namespace millsim {
 namespace {
@@ -101,6 +104,23 @@ TEST(SphMdbc, WallsTakeTheLinearFieldsValue2dCubic) { expectLinearFieldExtrapola
 TEST(SphMdbc, WallsTakeTheLinearFieldsValue3dWendland) { expectLinearFieldExtrapolated(3, "wendland"); }
 TEST(SphMdbc, GhostsTurnWithMovingWalls) { expectLinearFieldExtrapolated(2, "wendland", true); }
 
+TEST(SphMdbc, NoSlipGhostVelocityHoldsALinearShearFlow) {
+  const double ghost = testing::linearWallFlowChange("no_slip_ghost"), adami = testing::linearWallFlowChange("no_slip");
+  std::printf("near-floor velocity change / (dt nu gamma / dp): no_slip_ghost %.3g, no_slip (Adami) %.3g\n", ghost,
+              adami);
+  EXPECT_LT(ghost, 1e-9);
+  EXPECT_GT(adami, 1e-2);  // the control: the check can see a wall velocity that is off
+}
+
+TEST(SphMdbc, NoSlipGhostVelocityHoldsARigidRotationWithTurningWalls) {
+  const double ghost = testing::linearWallFlowChange("no_slip_ghost", true),
+               adami = testing::linearWallFlowChange("no_slip", true);
+  std::printf("rigid rotation, velocity change / (dt nu gamma / dp): no_slip_ghost %.3g, no_slip (Adami) %.3g\n", ghost,
+              adami);
+  EXPECT_LT(ghost, 1e-9);
+  EXPECT_GT(adami, 1e-2);
+}
+
 // Ghost offsets from the geometry: a tank's floor particle mirrors across the floor, a corner
 // particle through the corner; a drum's mantle particle radially across R, a lifter's top
 // particle across the lifter's top; a ball's shell particle radially across its surface.
@@ -120,7 +140,7 @@ TEST(SphMdbc, GhostOffsetsMirrorAcrossTheWallSurface) {
   d.lifters = 4;
   d.lifter_height = 0.02;
   d.lifter_width = 0.02;
-  d.first_angle = 0;  // lifter 0 along +x
+  d.first_angle = 0;                                      // lifter 0 along +x
   const auto mantle = sph::drumGhost(d, 0, 0.115, 0.02);  // 1.5 cm outside R on +y (between lifters)
   EXPECT_NEAR(mantle[0], 0, 1e-15);
   EXPECT_NEAR(mantle[1], -0.03, 1e-15);

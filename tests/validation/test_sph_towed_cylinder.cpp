@@ -42,7 +42,7 @@ struct TowResult {
   long long steps = 0, particles = 0, excluded = 0;
 };
 
-TowResult towCylinder(int n_radius, const std::string& wall_velocity) {
+TowResult towCylinder(int n_radius, const std::string& wall_velocity, const std::string& boundary = "dbc") {
   const double a = 0.004, k = 0.25, re = 0.05, nu = 1e-3, rho0 = 1000;
   const double dp = a / n_radius, W = 2 * a / k, L = 12 * 2 * a;
   const double U = re * nu / (2 * a);
@@ -58,6 +58,7 @@ TowResult towCylinder(int n_radius, const std::string& wall_velocity) {
   s.viscosity = "laminar";
   s.nu = nu;
   s.wall_velocity = wall_velocity;
+  s.boundary = boundary;
   s.ddt = "fourtakas";
   s.shifting = true;
   s.integrator = "verlet";
@@ -106,8 +107,9 @@ TowResult towCylinder(int n_radius, const std::string& wall_velocity) {
   r.side = std::abs(fx) / std::abs(fy);
   const sph::SphSums sums = e->sums();
   r.excluded = sums.excluded_density + sums.excluded_domain;
-  std::printf("towed cylinder, a = %d dp, wall_velocity = %s: %lld particles, %lld steps, drag / Faxen %.4f\n",
-              n_radius, wall_velocity.c_str(), r.particles, r.steps, r.drag_ratio);
+  std::printf(
+      "towed cylinder, a = %d dp, wall_velocity = %s, boundary = %s: %lld particles, %lld steps, drag / Faxen %.4f\n",
+      n_radius, wall_velocity.c_str(), boundary.c_str(), r.particles, r.steps, r.drag_ratio);
   return r;
 }
 
@@ -124,11 +126,19 @@ TEST(SphTowedCylinder, NoSlipWallsGiveFaxensDrag) {
 
 // Diagnostics: DBC walls and finer resolution (minutes each; docs/validation.md).
 TEST(SphTowedCylinder, DISABLED_ResolutionAndWallVelocity) {
-  // MILLSIM_TOW="a_over_dp:wall_velocity ..." picks the runs (default: 4 and 6 dp, both walls).
+  // MILLSIM_TOW="a_over_dp:wall_velocity[:boundary] ..." picks the runs (default: 4 and 6 dp,
+  // both wall velocities, DBC).
   const char* env = std::getenv("MILLSIM_TOW");
   std::istringstream runs(env ? env : "4:dbc 4:no_slip 6:dbc 6:no_slip");
   std::string run;
-  while (runs >> run) towCylinder(std::stoi(run.substr(0, run.find(':'))), run.substr(run.find(':') + 1));
+  while (runs >> run) {
+    std::istringstream fields(run);
+    std::string a, wall_velocity, boundary = "dbc";
+    std::getline(fields, a, ':');
+    std::getline(fields, wall_velocity, ':');
+    std::getline(fields, boundary, ':');
+    towCylinder(std::stoi(a), wall_velocity, boundary.empty() ? "dbc" : boundary);
+  }
 }
 
 }  // namespace
