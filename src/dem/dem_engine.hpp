@@ -13,6 +13,16 @@
 
 namespace millsim::dem {
 
+// An ensemble of drum scenes in one solver (ensemble.hpp: scene k in its own slab along z, its
+// own drum and contact law). Empty `start`: a single scene, the plain solver.
+struct DemEnsemble {
+  std::vector<int> start;               // host numbers of scene k: [start[k], start[k + 1])
+  double origin = 0, pitch = 0;         // scene k's slab: z in [origin + k pitch, origin + (k + 1) pitch)
+  double lead = 0;                      // scene k's local z = 0 (its front plate) at origin + k pitch + lead
+  std::vector<double> alpha, friction;  // contact law per scene (k_coef and the law's kind are the setup's)
+  int scenes() const { return start.empty() ? 0 : static_cast<int>(start.size()) - 1; }
+};
+
 struct DemSetup {
   double k_coef = 0;             // 4/3 E*
   double alpha = 0;              // damping, see damping.hpp
@@ -31,6 +41,7 @@ struct DemSetup {
   double lubrication_viscosity = 0;  // Pa s; 0: no lubrication stage and no arrays for it
   double lubrication_inner = 0.001, lubrication_outer = 0.05;
   bool collision_stats = true;  // Beinert tallies per contact (a <collisions> element); off: no tally arrays
+  DemEnsemble ensemble;          // several drum scenes at once (spheres only); empty: one scene
 };
 
 // Plain host copy of the state: what checkpoints, writers and tests read and write.
@@ -125,6 +136,12 @@ class DemEngine {
   virtual void initialize(const StirrerState& walls) = 0;
   virtual void step(const StirrerState& walls, double dt) = 0;
   virtual StirredSums stirredSums() const = 0;
+  // Ensembles (DemSetup::ensemble): the same step with every scene's drum, in scene order, and
+  // the sums of each scene (its particles' energies, work, torque, centre of mass in the
+  // ensemble's frame: x and y as the scene's own, z shifted by its slab).
+  virtual void initialize(const std::vector<DrumState>& drums) = 0;
+  virtual void step(const std::vector<DrumState>& drums, double dt) = 0;
+  virtual std::vector<DemSums> sceneSums() const = 0;
   // Per bead, in host numbering: tallies (collision_stats.hpp).
   virtual void collisionTallies(std::vector<CollisionTally>& out) const = 0;
 };

@@ -8,6 +8,7 @@
 
 #include "dem/contact/hertz.hpp"
 #include "dem/contact/lubrication.hpp"
+#include "dem/ensemble.hpp"
 #include "dem/walls/drum_walls.hpp"
 #include "millsim/core/vec3.hpp"
 #include "millsim/neighbors/cell_grid.hpp"
@@ -198,6 +199,8 @@ struct ContactForces {
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
     const T ri = p.radius[i], mi = p.contact_mass[i];
+    // The law of i's scene (an ensemble's per-scene e and mu); a plain law is itself.
+    const auto law_i = lawAt(law, xi_pos);
     Vec3<T> f = p.mass[i] * gravity;
     Vec3<T> tq = core::zero3<T>();
     T diss_rate = T(0), elastic = T(0), drum_tq = T(0), power_in = T(0);
@@ -234,7 +237,7 @@ struct ContactForces {
       Vec3<T> s = pair_xi[slot];
       [[maybe_unused]] const bool begins = s.x == T(0) && s.y == T(0) && s.z == T(0);
       const T mj = p.contact_mass[j];
-      const ContactResult<T> c = law(n, delta, ri * rj / reach, mi * mj / (mi + mj), v_rel, s, dt);
+      const ContactResult<T> c = law_i(n, delta, ri * rj / reach, mi * mj / (mi + mj), v_rel, s, dt);
       pair_xi[slot] = s;
       const Vec3<T> nxft = core::cross(n, c.force_t);
       f += c.force;
@@ -284,7 +287,7 @@ struct ContactForces {
       Vec3<T> s = core::zero3<T>();
       for (int q = 0; q < n_old; ++q)
         if (old_key[q] == w.wall) s = old_xi[q];
-      const ContactResult<T> c = law(w.n, w.delta, ri, wall_mass_factor * mi, v_rel, s, dt);
+      const ContactResult<T> c = law_i(w.n, w.delta, ri, wall_mass_factor * mi, v_rel, s, dt);
       if (n_new < kWallSlots) {
         wall_hist.key[i * kWallSlots + n_new] = w.wall;
         wall_hist.xi[i * kWallSlots + n_new] = s;

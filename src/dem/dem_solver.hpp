@@ -10,11 +10,13 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "dem/collision_stats.hpp"
 #include "dem/contact/linear_spring.hpp"
 #include "dem/dem_engine.hpp"
 #include "dem/dem_kernels.hpp"
+#include "dem/ensemble.hpp"
 #include "dem/partner_scatter.hpp"
 #include "dem/reorder_kernels.hpp"
 #include "dem/rigid_body.hpp"
@@ -123,6 +125,7 @@ class DemSolver final : public DemEngine {
     const double range_factor = lubricated() ? setup.lubrication_outer : 0.0;
     const T cell = T(2 * setup.max_radius * (1 + range_factor) + setup.skin);
     m_cells.setGrid(neighbors::makeGrid<T>(toVec(setup.domain_lo), toVec(setup.domain_hi), cell, false));
+    if (setup.ensemble.scenes() > 0) setEnsemble(setup.ensemble, double(cell));
   }
 
   const char* backendName() const override { return Space::kName; }
@@ -130,6 +133,10 @@ class DemSolver final : public DemEngine {
 
   void setState(const DemHostState& s) override {
     m_n = static_cast<int>(s.size());
+    if (ensemble() && m_setup.ensemble.start.back() != m_n)
+      throw std::invalid_argument("DemSolver::setState: the ensemble's scenes hold " +
+                                  std::to_string(m_setup.ensemble.start.back()) + " particles, the state " +
+                                  std::to_string(m_n));
     const std::size_t n = s.size();
     std::vector<Vec3<T>> pos(n), vel(n), omega(n);
     std::vector<T> radius(n), mass(n), inv_mass(n), inv_inertia(n);
@@ -194,6 +201,7 @@ class DemSolver final : public DemEngine {
   void setBodies(const DemBodies& b) override {
     m_nb = static_cast<int>(b.size());
     if (m_nb == 0) return;
+    if (ensemble()) throw std::invalid_argument("DemSolver::setBodies: an ensemble runs spheres only");
     const int ne = b.elements();
     bool ordered = !b.start.empty() && b.start[0] == 0;
     for (int k = 0; ordered && k < m_nb; ++k) ordered = b.start[k] < b.start[k + 1];
@@ -356,7 +364,11 @@ class DemSolver final : public DemEngine {
   // The forces of the given state, for the first half-kick. The springs are left as given: a
   // force evaluation with dt = 0 still moves a sliding contact's spring (onto -F_t/k_t with the
   // damping included), and a restart must continue from the checkpoint's springs.
-  void initialize(const DrumState& walls) override {
+  void initialize(const DrumState& walls) override { initializeDrum(walls); }
+  void initialize(const std::vector<DrumState>& drums) override { initializeDrum(drums); }
+
+  template <class Drums>
+  void initializeDrum(const Drums& walls) {
     rebuildNeighbours();
     backend::Array<Space, Vec3<T>> pair_xi(m_pair_xi.size()), wall_xi(m_wall_xi.size());
     backend::Array<Space, int> wall_key(m_wall_key.size());
@@ -417,6 +429,7 @@ class DemSolver final : public DemEngine {
   }
 
   void step(const DrumState& walls, double dt_in) override { stepWith(walls, T(dt_in)); }
+  void step(const std::vector<DrumState>& drums, double dt_in) override { stepWith(drums, T(dt_in)); }
 
   template <class Walls>
   void stepWith(const Walls& walls, T dt) {
@@ -451,29 +464,20 @@ class DemSolver final : public DemEngine {
   }
 
   DemSums sums() const override {
-    DemSums s;
-    ParticleView<T> p = const_cast<DemSolver*>(this)->view();
-    const Vec3<T> g = toVec(m_setup.gravity);
-    s.kinetic = backend::reduceSum<double>(Space{}, m_n, KineticEnergy<T>{p});
-    s.potential = backend::reduceSum<double>(Space{}, m_n, PotentialEnergy<T>{p, g});
-    s.dissipated = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_dissipated.data()});
-    s.work_in = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_work_in.data()});
-    if (m_work_external.size() == static_cast<std::size_t>(m_n))
-      s.work_external = backend::reduceSum<double>(Space{}, m_n, ReadDouble<T>{m_work_external.data()});
+    DemSums s = sumsOver([](const auto& f) { return f; });
     if (m_body_work_ext.size() == static_cast<std::size_t>(m_nb) && m_nb > 0)
       s.work_external = backend::reduceSum<double>(Space{}, m_nb, ReadDouble<T>{m_body_work_ext.data()});
-    s.elastic = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_elastic.data()});
-    s.drum_torque = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_drum_torque.data()});
-    s.max_speed = backend::reduceMax<double>(Space{}, m_n, 0.0, Speed<T>{m_vel.data()});
-    s.mass = backend::reduceSum<double>(Space{}, m_n, ReadReal<T>{m_mass.data()});
-    if (s.mass > 0) {
-      s.com_x = backend::reduceSum<double>(Space{}, m_n, MassMoment<T>{p, 0}) / s.mass;
-      s.com_y = backend::reduceSum<double>(Space{}, m_n, MassMoment<T>{p, 1}) / s.mass;
-    }
-    if (m_nbr_start.size() == static_cast<std::size_t>(m_n) + 1)
-      s.pair_contacts =
-          backend::reduceSum<double>(Space{}, m_n, PairContactCount<T>{p, m_nbr_start.data(), m_nbr_list.data()});
     return s;
+  }
+
+  std::vector<DemSums> sceneSums() const override {
+    std::vector<DemSums> out;
+    const std::vector<int>& start = m_setup.ensemble.start;
+    for (int k = 0; k < m_setup.ensemble.scenes(); ++k) {
+      const int lo = start[k], hi = start[k + 1];
+      out.push_back(sumsOver([&](const auto& f) { return HostRange<std::decay_t<decltype(f)>>{f, m_id.data(), lo, hi}; }));
+    }
+    return out;
   }
 
   std::map<std::string, std::size_t> memoryBytes() const override {
@@ -496,6 +500,7 @@ class DemSolver final : public DemEngine {
                                m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() + m_scratch_int2.bytes() +
                                m_body_ext_force.bytes() + m_body_ext_torque.bytes() + m_body_work_ext.bytes()},
             {"dem.lubrication", m_lub_dissipated.bytes()},
+            {"dem.ensemble", m_scene_params.bytes() + m_scene_drums.bytes()},
             {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
                               m_old_list.bytes() + m_pos_ref.bytes()}};
   }
@@ -779,6 +784,63 @@ class DemSolver final : public DemEngine {
     m_old_is_seed = false;
   }
 
+  // The particle sums, each through pick(functor): all particles (pick returns the functor) or
+  // one ensemble scene's (a HostRange mask).
+  template <class Pick>
+  DemSums sumsOver(const Pick& pick) const {
+    DemSums s;
+    ParticleView<T> p = const_cast<DemSolver*>(this)->view();
+    const Vec3<T> g = toVec(m_setup.gravity);
+    s.kinetic = backend::reduceSum<double>(Space{}, m_n, pick(KineticEnergy<T>{p}));
+    s.potential = backend::reduceSum<double>(Space{}, m_n, pick(PotentialEnergy<T>{p, g}));
+    s.dissipated = backend::reduceSum<double>(Space{}, m_n, pick(ReadDouble<T>{m_dissipated.data()}));
+    s.work_in = backend::reduceSum<double>(Space{}, m_n, pick(ReadDouble<T>{m_work_in.data()}));
+    if (m_work_external.size() == static_cast<std::size_t>(m_n))
+      s.work_external = backend::reduceSum<double>(Space{}, m_n, pick(ReadDouble<T>{m_work_external.data()}));
+    s.elastic = backend::reduceSum<double>(Space{}, m_n, pick(ReadReal<T>{m_elastic.data()}));
+    s.drum_torque = backend::reduceSum<double>(Space{}, m_n, pick(ReadReal<T>{m_drum_torque.data()}));
+    s.max_speed = backend::reduceMax<double>(Space{}, m_n, 0.0, pick(Speed<T>{m_vel.data()}));
+    s.mass = backend::reduceSum<double>(Space{}, m_n, pick(ReadReal<T>{m_mass.data()}));
+    if (s.mass > 0) {
+      s.com_x = backend::reduceSum<double>(Space{}, m_n, pick(MassMoment<T>{p, 0})) / s.mass;
+      s.com_y = backend::reduceSum<double>(Space{}, m_n, pick(MassMoment<T>{p, 1})) / s.mass;
+    }
+    if (m_nbr_start.size() == static_cast<std::size_t>(m_n) + 1)
+      s.pair_contacts = backend::reduceSum<double>(
+          Space{}, m_n, pick(PairContactCount<T>{p, m_nbr_start.data(), m_nbr_list.data()}));
+    return s;
+  }
+
+  bool ensemble() const { return m_setup.ensemble.scenes() > 0; }
+
+  // The ensemble's per-scene laws and slabs, checked once. The slabs must be further apart than
+  // a neighbour cell, or a pair could be listed across scenes.
+  void setEnsemble(const DemEnsemble& e, double cell) {
+    const int k = e.scenes();
+    const auto n = static_cast<std::size_t>(k);
+    bool ordered = e.start[0] == 0;
+    for (int q = 0; ordered && q < k; ++q) ordered = e.start[q] <= e.start[q + 1];
+    if (!ordered || e.alpha.size() != n || e.friction.size() != n || !(e.pitch > cell))
+      throw std::invalid_argument("DemSolver: inconsistent ensemble (scene ranges, one law per scene, slab pitch "
+                                  "longer than a neighbour cell)");
+    std::vector<HertzParams<T>> params(n);
+    for (std::size_t q = 0; q < n; ++q) params[q] = {m_law.k_coef, T(e.alpha[q]), T(e.friction[q])};
+    m_scene_params.copyFromHost(params);
+    m_slabs = SlabLayout<T>{T(e.origin), T(e.pitch), T(1.0 / e.pitch), T(e.lead), k};
+    m_host_drums.assign(n, DrumWalls<T>{});
+    m_scene_drums.copyFromHost(m_host_drums);
+  }
+
+  // Every scene's drum walls for this step, through a table in the execution space's memory
+  // (K x ~0.5 kB copied per step; sized once, so nothing is allocated in the step loop).
+  EnsembleDrumWalls<T> ensembleWalls(const std::vector<DrumState>& drums) {
+    if (!ensemble() || static_cast<int>(drums.size()) != m_slabs.count)
+      throw std::invalid_argument("DemSolver: one drum state per ensemble scene expected");
+    for (std::size_t q = 0; q < drums.size(); ++q) m_host_drums[q] = drumWalls(drums[q]);
+    m_scene_drums.copyFromHost(m_host_drums);
+    return {m_scene_drums.data(), m_slabs};
+  }
+
   static DrumWalls<T> drumWalls(const DrumState& w) {
     if (w.lifter_count > kMaxLifters)
       throw core::InputError("drum: " + std::to_string(w.lifter_count) + " lifters, at most " +
@@ -832,19 +894,27 @@ class DemSolver final : public DemEngine {
     });
   }
 
-  template <class Law>
-  void launchForces(const DrumState& walls, T dt, Law law) {
-    launchContacts(drumWalls(walls), dt, law);
+  // The drum's tangential law is a template parameter: one branch per step, none per pair.
+  template <class Launch>
+  void withDrumLaw(const Launch& launch) {
+    if (m_setup.dualsphysics_tangential)
+      launch(HertzDualSphysicsTangential<T>{m_law});
+    else if (m_setup.tanh_smoothing)
+      launch(HertzMindlin<T, FrictionSmoothing::kTanh>{m_law});
+    else
+      launch(HertzMindlin<T, FrictionSmoothing::kNone>{m_law});
   }
 
   void computeForces(const DrumState& walls, T dt) {
-    // The tangential law is a template parameter: one branch per step, none per pair.
-    if (m_setup.dualsphysics_tangential)
-      launchForces(walls, dt, HertzDualSphysicsTangential<T>{m_law});
-    else if (m_setup.tanh_smoothing)
-      launchForces(walls, dt, HertzMindlin<T, FrictionSmoothing::kTanh>{m_law});
-    else
-      launchForces(walls, dt, HertzMindlin<T, FrictionSmoothing::kNone>{m_law});
+    const DrumWalls<T> drum = drumWalls(walls);
+    withDrumLaw([&](auto law) { launchContacts(drum, dt, law); });
+  }
+
+  void computeForces(const std::vector<DrumState>& drums, T dt) {
+    const EnsembleDrumWalls<T> walls = ensembleWalls(drums);
+    withDrumLaw([&](auto law) {
+      launchContacts(walls, dt, EnsembleLaw<decltype(law), HertzParams<T>, T>{m_scene_params.data(), m_slabs});
+    });
   }
 
   bool lubricated() const { return m_setup.lubrication_viscosity > 0; }
@@ -920,6 +990,11 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, double> m_lub_dissipated;
   backend::Array<Space, T> m_fixed_torque;
   HertzParams<T> m_law;
+  // Ensemble (DemSetup::ensemble): per-scene contact parameters and drums, and the slabs.
+  backend::Array<Space, HertzParams<T>> m_scene_params;
+  backend::Array<Space, DrumWalls<T>> m_scene_drums;
+  std::vector<DrumWalls<T>> m_host_drums;
+  SlabLayout<T> m_slabs{};
   int m_n = 0;
   std::int64_t m_rebuilds = 0;
   std::int64_t m_steps = 0;  // steps since setState (for error messages)

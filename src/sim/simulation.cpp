@@ -21,6 +21,7 @@
 #include "sim/engine_factory.hpp"
 #include "sim/charge_setup.hpp"
 #include "sim/drum_motion.hpp"
+#include "sim/drum_setup.hpp"
 #include "sim/run_outputs.hpp"
 #include "sim/sph_run.hpp"
 #include "sim/stirred_run.hpp"
@@ -58,15 +59,10 @@ struct Simulation::Impl {
       throw core::InputError(scene.source, 0, "the case has no <dem> element: nothing to simulate");
     if (options.threads > 0) omp_set_num_threads(options.threads);
     charge = buildCharge(scene);
-    const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
-                               scene.gravity[2] * scene.gravity[2]);
-    const double R = 0.5 * scene.drum.diameter;
-    const double rpm = scene.drum.critical_fraction > 0
-                           ? scene.drum.critical_fraction * criticalSpeedRpm(R, charge.mean_radius, g)
-                           : scene.drum.speed_rpm;
+    const double rpm = drumSpeedRpm(scene, charge);
     motion = std::make_unique<DrumMotion>(scene, charge.generation_length, rpm);
-    if (scene.angle.enabled) angle = std::make_unique<vision::FrontViewAngle>(scene.drum.diameter, angleOptions());
-    dt = chooseTimeStep();
+    if (scene.angle.enabled) angle = std::make_unique<vision::FrontViewAngle>(scene.drum.diameter, drumAngleOptions(scene));
+    dt = drumTimeStep(scene, charge);
     engine = makeEngine();
     dcdem = scene.dem.representation == "dcdem";
     if (dcdem) {
@@ -86,52 +82,7 @@ struct Simulation::Impl {
 
   dem::DemSums restoredSums0;
 
-  double chooseTimeStep() const {
-    if (scene.time.dt_mode == "fixed") return scene.time.dt_fixed;
-    // Shortest Hertz contact: the smallest balls at the reference impact speed, ball-ball
-    // (R* = r/2, m* = m/2) and ball-wall (R* = r, m* = factor * m). dt = t_c / N.
-    const double e_star = dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
-    // DCDEM balls touch element on element: R* = dp/4 (pairs), dp/2 (walls), with the balls' masses.
-    const double r = charge.min_radius, m = scene.dem.density * 4.0 / 3.0 * std::acos(-1.0) * r * r * r;
-    const double r_contact = scene.dem.representation == "dcdem" ? 0.5 * scene.dem.element_spacing : r;
-    const double v = scene.dem.impact_velocity;
-    const double factor = dem::wallMassFactor(dem::dampingModelFromName(scene.dem.damping));
-    const double tc = std::min(dem::hertzContactTime(0.5 * m, 0.5 * r_contact, e_star, v),
-                               dem::hertzContactTime(factor * m, r_contact, e_star, v));
-    return tc / scene.time.dt_divisor;
-  }
-
-  std::unique_ptr<dem::DemEngine> makeEngine() const {
-    dem::DemSetup setup;
-    const auto model = dem::dampingModelFromName(scene.dem.damping);
-    setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
-    setup.alpha = dem::dampingAlpha(model, scene.dem.restitution);
-    setup.wall_mass_factor = dem::wallMassFactor(model);
-    setup.friction = scene.dem.friction;
-    setup.tanh_smoothing = scene.dem.friction_smoothing == "tanh";
-    setup.dualsphysics_tangential = scene.dem.tangential == "dualsphysics";
-    setup.gravity = scene.gravity;
-    setup.skin = 0.2 * charge.min_radius;
-    setup.max_radius = charge.max_radius;
-    if (scene.dem.representation == "dcdem") {
-      setup.skin = 0.2 * scene.dem.element_spacing;
-      setup.max_radius = 0.5 * scene.dem.element_spacing;
-    }
-    const double R = 0.5 * scene.drum.diameter, margin = 2 * charge.max_radius;
-    setup.domain_lo = {-R - margin, -R - margin, -margin};
-    setup.domain_hi = {R + margin, R + margin, charge.generation_length + margin};
-    return makeDemEngine(setup, options);
-  }
-
-  vision::AngleOptions angleOptions() const {
-    vision::AngleOptions opt;
-    opt.pixels_per_mm = scene.angle.pixels_per_mm;
-    opt.threshold = scene.angle.threshold;
-    opt.smoothing_px = scene.angle.smoothing_px;
-    opt.fit_offset_mm = scene.angle.fit_offset_mm;
-    opt.fit_length_mm = scene.angle.fit_length_mm;
-    return opt;
-  }
+  std::unique_ptr<dem::DemEngine> makeEngine() const { return makeDemEngine(drumDemSetup(scene, charge), options); }
 
   // The front view sees balls: DCDEM bodies are drawn as their balls (centre, ball radius).
   void captureFrame() {
@@ -144,49 +95,16 @@ struct Simulation::Impl {
     angle->addFrame(cx, cy, s.radius);
   }
 
-  void checkEscaped(const dem::DemHostState& s) const {
-    const double R = 0.5 * scene.drum.diameter, tol = 0.5 * charge.max_radius;
-    const double zmax = charge.generation_length;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      const double x = s.pos[3 * i], y = s.pos[3 * i + 1], z = s.pos[3 * i + 2];
-      if (std::sqrt(x * x + y * y) > R + tol || z < -tol || z > zmax + tol) {
-        std::ostringstream m;
-        m << "DEM: ball " << i << " escaped the drum at t = " << t << " s, position (" << x << ", " << y << ", " << z
-          << ") m: contacts too soft for the speeds reached (raise E or lower dt)";
-        throw core::SimulationError(m.str());
-      }
-    }
-  }
-
   void restoreCheckpoint();
   void writeCheckpoint(const fs::path& path) const;
   void finishAngle(const fs::path& out);
-  void fillEnergy(const dem::DemSums& now);
+  void fillEnergy(const dem::DemSums& now) { fillDrumEnergy(summary, now, sums0); }
   void run();
 };
 
-void Simulation::Impl::fillEnergy(const dem::DemSums& now) {
-  fillDemEnergy(summary, now.kinetic, now.potential, now.dissipated, now.work_in, now.elastic);
-  summary.energy_residual = (now.work_in - sums0.work_in) + (now.work_external - sums0.work_external) -
-                            ((now.kinetic - sums0.kinetic) + (now.potential - sums0.potential) +
-                             (now.elastic - sums0.elastic) + (now.dissipated - sums0.dissipated));
-}
-
 void Simulation::Impl::finishAngle(const fs::path& out) {
-  summary.angle_frames = angle ? angle->frames() : 0;
-  if (!angle) return;
-  vision::AngleResult r;
-  try {
-    r = angle->measure();
-    summary.angle_valid = true;
-    summary.angle_of_repose_deg = r.angle_deg;
-    summary.angle_stderr_deg = r.stderr_deg;
-    summary.angle_points = r.points_used;
-  } catch (const std::runtime_error& e) {
-    summary.angle_valid = false;
-    summary.angle_error = e.what();
-  }
-  if (options.write_outputs) angle->writeImages(out, summary.angle_valid ? &r : nullptr);
+  summary.angle_frames = 0;
+  if (angle) finishDrumAngle(*angle, summary, out, options.write_outputs);
 }
 
 void Simulation::Impl::run() {
@@ -205,12 +123,7 @@ void Simulation::Impl::run() {
   std::unique_ptr<SeriesWriter> series;
   std::unique_ptr<io::FieldsWriter> fields;
   if (options.write_outputs) {
-    series = std::make_unique<SeriesWriter>(
-        out / "series.csv",
-        std::vector<std::string>{"time_s", "kinetic_J", "potential_J", "dissipated_J", "work_in_J", "elastic_J",
-                                 "drum_torque_Nm", "power_W", "omega_rpm", "piston_z_m", "max_speed_m_s",
-                                 "energy_residual_J", "com_x_m", "com_y_m"},
-        restart);
+    series = std::make_unique<SeriesWriter>(out / "series.csv", drumSeriesColumns(), restart);
     if (scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, restart);
   }
   const double t_end = scene.time.end;
@@ -235,13 +148,9 @@ void Simulation::Impl::run() {
         const dem::DemSums now = engine->sums();
         dem::DemHostState s;
         engine->getState(s);
-        checkEscaped(s);
+        checkBallsInDrum(s.pos, 0, static_cast<int>(s.size()), 0.0, scene, charge, t, "");
         fillEnergy(now);
-        const auto w = motion->at(t, phi);
-        if (series)
-          series->row({t, now.kinetic, now.potential, now.dissipated, now.work_in, now.elastic, now.drum_torque,
-                       -now.drum_torque * w.omega, std::abs(w.omega) * 60.0 / (2 * std::acos(-1.0)), w.z_back,
-                       now.max_speed, summary.energy_residual, now.com_x, now.com_y});
+        if (series) series->row(drumSeriesRow(t, now, motion->at(t, phi), summary.energy_residual));
         if (steady_t0 < 0 && t >= steady_start) {
           steady_t0 = t;
           steady_work0 = now.work_in;

@@ -1,0 +1,265 @@
+// Several drum cases in one DEM solver (see header): the cases' charges side by side in slabs
+// along z, one engine, one time loop, and each case's observers on its own balls.
+#include "millsim/sim/ensemble_run.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "dem/dem_engine.hpp"
+#include "millsim/core/error.hpp"
+#include "millsim/vision/front_view_angle.hpp"
+#include "sim/charge_setup.hpp"
+#include "sim/drum_motion.hpp"
+#include "sim/drum_setup.hpp"
+#include "sim/engine_factory.hpp"
+#include "sim/run_outputs.hpp"
+
+namespace millsim::sim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One case of the ensemble: its charge, drum motion, front view and bookkeeping.
+struct Member {
+  const scene::Scene* scene = nullptr;
+  ChargeSetup charge;
+  std::unique_ptr<DrumMotion> motion;
+  std::unique_ptr<vision::FrontViewAngle> angle;
+  fs::path out;
+  int lo = 0, hi = 0;  // host numbers of its balls in the engine
+  double z0 = 0;       // z of its local origin (front plate) in the ensemble
+  double phi = 0;
+  dem::DemSums sums0;
+  RunSummary summary;
+  std::unique_ptr<SeriesWriter> series;
+  double next_series = 0, next_frame = 0, frame_dt = 0, steady_start = 0;
+  double steady_t0 = -1, steady_work0 = 0;
+};
+
+// The case and line of a field that differs from the first case's, as an input error.
+core::InputError mismatch(const scene::Scene& s, const char* element, const std::string& what) {
+  const auto line = s.element_lines.count(element) ? s.element_lines.at(element) : 0;
+  return core::InputError(s.source, line,
+                          "ensemble: " + what +
+                              " differs from the first case's; the cases of an ensemble share one "
+                              "DEM solver (docs/performance.md, Ensembles)");
+}
+
+void checkShareable(const std::vector<scene::Scene>& scenes) {
+  const scene::Scene& a = scenes.front();
+  for (const scene::Scene& s : scenes) {
+    if (!s.effect_dem || s.effect_sph || s.has_stirrer)
+      throw core::InputError(s.source, 0, "ensemble: only balls-only drum cases (a <dem> without <sph> or <stirrer>)");
+    if (s.dem.representation != "sphere")
+      throw core::InputError(s.source, s.element_lines.count("dem") ? s.element_lines.at("dem") : 0,
+                             "ensemble: dem.representation must be \"sphere\" (DCDEM bodies run one case at a time)");
+    if (s.dem.youngs_modulus != a.dem.youngs_modulus || s.dem.poisson != a.dem.poisson)
+      throw mismatch(s, "dem", "dem.youngs_modulus / dem.poisson");
+    if (s.dem.damping != a.dem.damping) throw mismatch(s, "dem", "dem.damping");
+    if (s.dem.tangential != a.dem.tangential || s.dem.friction_smoothing != a.dem.friction_smoothing)
+      throw mismatch(s, "dem", "dem.tangential / dem.friction_smoothing");
+    if (s.dem.law != a.dem.law) throw mismatch(s, "dem", "dem.law");
+    if (s.gravity != a.gravity) throw mismatch(s, "gravity", "gravity");
+    if (s.time.end != a.time.end) throw mismatch(s, "time", "time.end");
+  }
+}
+
+}  // namespace
+
+std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
+  const std::size_t k_count = spec.scenes.size();
+  if (k_count == 0) throw core::InputError("ensemble: no cases");
+  if (spec.out_dirs.size() != k_count) throw core::InputError("ensemble: one output folder per case is needed");
+  checkShareable(spec.scenes);
+  if (!spec.run.restart.empty()) throw core::InputError("ensemble: --restart is for single runs");
+  if (spec.run.threads > 0) omp_set_num_threads(spec.run.threads);
+
+  // Charges, motions and the solver's shared setup: the smallest time step and skin, the largest
+  // ball, the widest drum, the longest generation drum.
+  std::vector<Member> members(k_count);
+  double dt = 1e300, skin = 1e300, max_radius = 0, max_drum = 0, max_length = 0;
+  for (std::size_t k = 0; k < k_count; ++k) {
+    Member& m = members[k];
+    m.scene = &spec.scenes[k];
+    m.charge = buildCharge(*m.scene);
+    m.motion = std::make_unique<DrumMotion>(*m.scene, m.charge.generation_length, drumSpeedRpm(*m.scene, m.charge));
+    if (m.scene->angle.enabled)
+      m.angle = std::make_unique<vision::FrontViewAngle>(m.scene->drum.diameter, drumAngleOptions(*m.scene));
+    m.out = spec.out_dirs[k];
+    const dem::DemSetup own = drumDemSetup(*m.scene, m.charge);
+    dt = std::min(dt, drumTimeStep(*m.scene, m.charge));
+    skin = std::min(skin, own.skin);
+    max_radius = std::max(max_radius, own.max_radius);
+    max_drum = std::max(max_drum, 0.5 * m.scene->drum.diameter);
+    max_length = std::max(max_length, m.charge.generation_length);
+  }
+  dem::DemSetup setup = drumDemSetup(*members[0].scene, members[0].charge);
+  setup.skin = skin;
+  setup.max_radius = max_radius;
+  // Slabs: each case's local z in [0, generation length] sits `lead` into its slab, and the next
+  // slab starts more than a neighbour cell after the longest drum, so no pair spans two cases.
+  const double cell = 2 * max_radius + skin, margin = 2 * max_radius;
+  dem::DemEnsemble& ens = setup.ensemble;
+  ens.lead = cell;
+  ens.pitch = max_length + 3 * cell;
+  ens.origin = -0.5 * static_cast<double>(k_count) * ens.pitch;  // centred: smaller |z| in float
+  setup.domain_lo = {-max_drum - margin, -max_drum - margin, ens.origin - margin};
+  setup.domain_hi = {max_drum + margin, max_drum + margin, ens.origin + k_count * ens.pitch + margin};
+
+  // One state: case k's balls shifted to its slab, their history keys by its first host number.
+  dem::DemHostState state;
+  ens.start.push_back(0);
+  for (std::size_t k = 0; k < k_count; ++k) {
+    Member& m = members[k];
+    const dem::DemSetup own = drumDemSetup(*m.scene, m.charge);
+    ens.alpha.push_back(own.alpha);
+    ens.friction.push_back(own.friction);
+    m.z0 = ens.origin + static_cast<double>(k) * ens.pitch + ens.lead;
+    m.lo = ens.start.back();
+    const dem::DemHostState& c = m.charge.state;
+    auto append = [](std::vector<double>& to, const std::vector<double>& from) {
+      to.insert(to.end(), from.begin(), from.end());
+    };
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      state.pos.insert(state.pos.end(), {c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2] + m.z0});
+    }
+    append(state.vel, c.vel);
+    append(state.omega, c.omega);
+    append(state.radius, c.radius);
+    append(state.mass, c.mass);
+    append(state.inertia, c.inertia);
+    append(state.hist_xi, c.hist_xi);
+    for (const std::int64_t key : c.hist_id) state.hist_id.push_back(key >= 0 ? key + m.lo : key);
+    m.hi = m.lo + static_cast<int>(c.size());
+    ens.start.push_back(m.hi);
+  }
+  const std::unique_ptr<dem::DemEngine> engine = makeDemEngine(setup, spec.run);
+  engine->setState(state);
+
+  double t = 0;
+  long long step = 0;
+  std::vector<dem::DrumState> drums(k_count);
+  auto drumStates = [&](double at) {
+    for (std::size_t k = 0; k < k_count; ++k) drums[k] = members[k].motion->at(at, members[k].phi);
+    return drums;
+  };
+  engine->initialize(drumStates(0.0));
+  {
+    const std::vector<dem::DemSums> s0 = engine->sceneSums();
+    for (std::size_t k = 0; k < k_count; ++k) members[k].sums0 = s0[k];
+  }
+
+  const bool write = spec.run.write_outputs;
+  for (Member& m : members) {
+    RunSummary& s = m.summary;
+    s.backend = engine->backendName();
+    s.precision = engine->precisionName();
+    s.threads = s.backend == std::string("omp") ? omp_get_max_threads() : 1;
+    s.dt = dt;
+    s.particles = static_cast<std::size_t>(m.hi - m.lo);
+    s.charge_mass_kg = m.charge.total_mass;
+    s.omega_rad_s = std::abs(m.motion->fullOmega());
+    const scene::Scene& sc = *m.scene;
+    m.frame_dt = (sc.time.end - sc.angle.start_time) / std::max(1, sc.angle.frames);
+    m.next_frame = sc.angle.start_time + m.frame_dt;
+    m.steady_start = sc.angle.enabled ? sc.angle.start_time : sc.drum.start_time + sc.drum.spin_up;
+    if (write) {
+      fs::create_directories(m.out);
+      m.series = std::make_unique<SeriesWriter>(m.out / "series.csv", drumSeriesColumns(), false);
+    }
+  }
+
+  // A ball outside its drum has left its slab too: the ensemble stops, naming the case.
+  dem::BallKinematics balls;
+  auto captureFrame = [&](Member& m) {
+    std::vector<double> cx, cy, r;
+    for (int h = m.lo; h < m.hi; ++h) {
+      cx.push_back(balls.pos[3 * h]);
+      cy.push_back(balls.pos[3 * h + 1]);
+      r.push_back(state.radius[static_cast<std::size_t>(h)]);
+    }
+    m.angle->addFrame(cx, cy, r);
+  };
+
+  const double t_end = spec.scenes.front().time.end;
+  ProgressLine progress(spec.run.progress, t_end);
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double eps = 1e-12 * t_end;
+  try {
+    while (true) {
+      bool want_sums = false, want_frame = false;
+      for (const Member& m : members) {
+        want_sums = want_sums || t >= m.next_series - eps;
+        want_frame =
+            want_frame || (m.angle && t >= m.next_frame - 0.5 * dt && m.angle->frames() < m.scene->angle.frames);
+      }
+      if (want_sums || want_frame) engine->ballKinematics(balls);
+      if (want_sums) {
+        const std::vector<dem::DemSums> now = engine->sceneSums();
+        for (std::size_t k = 0; k < k_count; ++k) {
+          Member& m = members[k];
+          if (t < m.next_series - eps) continue;
+          checkBallsInDrum(balls.pos, m.lo, m.hi, m.z0, *m.scene, m.charge, t, m.scene->source + ": ");
+          fillDrumEnergy(m.summary, now[k], m.sums0);
+          if (m.series) m.series->row(drumSeriesRow(t, now[k], m.motion->at(t, m.phi), m.summary.energy_residual));
+          if (m.steady_t0 < 0 && t >= m.steady_start) {
+            m.steady_t0 = t;
+            m.steady_work0 = now[k].work_in;
+          }
+          m.next_series += m.scene->output.series_every;
+        }
+      }
+      for (Member& m : members) {
+        if (m.angle && t >= m.next_frame - 0.5 * dt && m.angle->frames() < m.scene->angle.frames) {
+          captureFrame(m);
+          m.next_frame += m.frame_dt;
+        }
+      }
+      if (t >= t_end - 0.5 * dt) break;
+      for (Member& m : members) m.phi += m.motion->omega(t + dt) * dt;
+      engine->step(drumStates(t + dt), dt);
+      t += dt;
+      ++step;
+      progress.update(t, step);
+    }
+  } catch (const core::SimulationError& e) {
+    progress.finish();
+    for (Member& m : members) {
+      const fs::path summary_json = m.out / "summary.json";
+      recordFailedRun(m.summary, e.what(), t, step, wall0, write ? &summary_json : nullptr, engine->memoryBytes(),
+                      m.scene->name, m.scene->source);
+    }
+    throw;
+  }
+  progress.finish();
+
+  const std::vector<dem::DemSums> end = engine->sceneSums();
+  const std::vector<std::string> stages{"ensemble", "neighbour_build",  "dem_kick_drift", "dem_contacts_and_walls",
+                                        "dem_kick", "front_view_frames"};
+  std::vector<RunSummary> out;
+  for (std::size_t k = 0; k < k_count; ++k) {
+    Member& m = members[k];
+    RunSummary& s = m.summary;
+    markRunEnd(s, "ok", t, step, wall0);
+    s.neighbour_rebuilds = engine->neighbourRebuilds();
+    fillDrumEnergy(s, end[k], m.sums0);
+    if (m.steady_t0 >= 0 && t > m.steady_t0) {
+      s.power_W = (end[k].work_in - m.steady_work0) / (t - m.steady_t0);
+      s.torque_Nm = s.omega_rad_s > 0 ? s.power_W / s.omega_rad_s : 0;
+    }
+    if (m.angle) finishDrumAngle(*m.angle, s, m.out, write);
+    if (write)
+      writeSummaryJson(m.out / "summary.json", s, stages, engine->memoryBytes(), m.scene->name, m.scene->source);
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace millsim::sim
