@@ -4,8 +4,9 @@
 #   1. millsim_gpu_tests: CUDA against OpenMP (DEM drum, stirred slice, SPH dam break front,
 #      SPH-DEM momentum budget),
 #   2. millsim_bench: DEM and SPH throughput at N = 1e4 .. 1e6 on both backends and 1e7 on the
-#      GPU (BM_DemScaling, BM_SphScaling3d; SPH in double and float), JSON per run.
-# Each stage has its own time limit (at most 470 s in all, under the device tool's 600 s per command),
+#      GPU (BM_DemScaling, BM_SphScaling3d; SPH in double and float), JSON per run;
+#   3. millsim_bench: an ensemble of 18 drums against one drum on the GPU (BM_DrumEnsemble).
+# Each stage has its own time limit (at most 580 s in all, under the device tool's 600 s per command),
 # so one that hangs costs only its share.
 #
 # Here: scripts/build.sh (CUDA on), bash scripts/gpu_bundle.sh, then run on the device machine
@@ -43,6 +44,9 @@ bench() {  # name, seconds, filter, extra env
 bench dem "${DEM_S:-100}" 'BM_DemScaling'
 bench sph_double "${SPH_S:-120}" 'BM_SphScaling3d'
 bench sph_float "${SPH_F_S:-100}" 'BM_SphScaling3d/.*/1' MILLSIM_BENCH_FLOAT=1
+# Issue 10, Done-when 4: 18 drums (6 candidates x 300/400/500 mm) as one ensemble against the
+# 300 mm drum alone, 2 s simulated each, on the GPU (the CPU side is in docs/performance.md).
+bench ensemble "${ENS_S:-110}" 'BM_DrumEnsemble/./1' MILLSIM_ENSEMBLE_T="${ENSEMBLE_T:-2}"
 
 python3 - "$out" <<'EOF' | tee "$out/summary.txt"
 import glob, json, os, sys
@@ -55,6 +59,10 @@ for path in sorted(glob.glob(os.path.join(sys.argv[1], "bench_*.json"))):
     for b in runs:
         if b.get("error_occurred"):
             print(f"{os.path.basename(path)} {b['name']}: skipped ({b.get('error_message', '')})")
+            continue
+        if "scenes" in b:  # BM_DrumEnsemble: one iteration is one whole run
+            print(f"{os.path.basename(path)} {b['name']}: {b['scenes']:.0f} scene(s), {b['particles']:.0f} balls, "
+                  f"{b['real_time']:.3g} {b['time_unit']} per run, {b['particle_steps_per_s']:.3g} particle-steps/s")
             continue
         n = b.get("fluid") or b.get("particles")
         print(f"{os.path.basename(path)} {b['name']}: N = {n:.0f}, {b['real_time']:.3g} {b['time_unit']}/step, "

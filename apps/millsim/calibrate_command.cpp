@@ -113,6 +113,9 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateArgs& a) {
   c->add_option("--max-evals", a.max_evals, "Most candidates in all (each runs every diameter)")->capture_default_str();
   c->add_option("--parallel", a.parallel, "Candidates simulated at once per process (threads; under mpirun, per rank)")
       ->capture_default_str();
+  c->add_flag("--ensemble", a.ensemble,
+              "Run each batch (--parallel candidates x the diameters) as one ensemble in one DEM solver: on a GPU "
+              "one launch per stage for the whole batch (docs/calibration.md)");
   c->add_option("--method", a.method, "bo: Gaussian process + expected improvement; paper: thin-plate SSE argmin")
       ->check(CLI::IsMember({"bo", "paper"}))
       ->capture_default_str();
@@ -155,10 +158,10 @@ int calibrateCommand(const CalibrateArgs& a) {
   if (a.threads < 0) throw InputError("--threads: 0 (all) or more");
   if (a.backend == "cuda" && !backend::cudaCompiled()) throw InputError("--backend cuda: this build has no CUDA");
   // `auto` with a GPU present is cuda too: worker threads would all land on one GPU.
-  if (backend::resolvedBackend(a.backend) == "cuda" && a.parallel > 1)
+  if (backend::resolvedBackend(a.backend) == "cuda" && a.parallel > 1 && !a.ensemble)
     throw InputError("--backend " + a.backend +
                      " (cuda) with --parallel > 1: one GPU runs one simulation at a time; use --parallel 1 "
-                     "(and mpirun with one rank per GPU for more)");
+                     "(and mpirun with one rank per GPU for more), or --ensemble to run the batch in one solver");
 
   calib::SimulationObjectiveConfig config;
   config.labels = labels;
@@ -174,6 +177,7 @@ int calibrateCommand(const CalibrateArgs& a) {
   config.run.precision = a.precision;
   config.run.threads = a.threads;
   config.runs_dir = (std::filesystem::path(a.out) / "runs").string();
+  config.ensemble = a.ensemble;
   if (config.measured_deg.empty()) config.measured_deg = anglesFromVideos(splitList(a.measured_videos), labels);
   const calib::SimulationObjective objective(config);  // loads every case: bad --set fails here
 
@@ -265,6 +269,7 @@ int calibrateCommand(const CalibrateArgs& a) {
   j["precision"] = a.precision;
   j["threads_per_run"] = a.threads;
   j["parallel"] = a.parallel;
+  j["ensemble"] = a.ensemble;
   j["mpi_ranks"] = n_ranks;
   j["e_range"] = {options.box.e_min, options.box.e_max};
   j["mu_range"] = {options.box.mu_min, options.box.mu_max};

@@ -19,6 +19,7 @@ struct CalibrateArgs {
   int patience = 3;                                             // paper: 3
   int max_evals = 40;
   int parallel = 1;
+  bool ensemble = false;  // a batch's runs in one DEM solver (sim::runEnsemble)
   std::string method = "bo";  // bo | paper
   std::vector<std::string> sets;
   std::string out = "calibration_out";

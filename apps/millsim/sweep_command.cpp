@@ -58,6 +58,9 @@ CLI::App* addSweepCommand(CLI::App& app, SweepArgs& a) {
   c->add_option("--threads", a.threads, "OpenMP threads per run")->capture_default_str();
   c->add_option("--parallel", a.parallel, "Runs side by side per process (threads; under mpirun, per rank)")
       ->capture_default_str();
+  c->add_flag("--ensemble", a.ensemble,
+              "All runs (under mpirun: a rank's runs) as one ensemble in one DEM solver, --threads threads: on a "
+              "GPU one launch per stage for all of them; balls-only drum cases; no fields or checkpoints");
   c->add_flag("--quiet,-q", a.quiet, "No progress lines");
   return c;
 }
@@ -67,10 +70,11 @@ int sweepCommand(const SweepArgs& a) {
   if (a.parallel < 1) throw core::InputError("--parallel: at least 1");
   if (a.backend == "cuda" && !backend::cudaCompiled()) throw core::InputError("--backend cuda: this build has no CUDA");
   // `auto` with a GPU present is cuda too: worker threads would all land on one GPU.
+  if (a.ensemble && a.parallel > 1) throw core::InputError("--ensemble with --parallel > 1: an ensemble is one run");
   if (backend::resolvedBackend(a.backend) == "cuda" && a.parallel > 1)
     throw core::InputError("--backend " + a.backend +
                            " (cuda) with --parallel > 1: one GPU runs one simulation at a time; use --parallel 1 "
-                           "(and mpirun with one rank per GPU for more)");
+                           "(and mpirun with one rank per GPU for more), or --ensemble");
   // Several runs writing fields and checkpoints at once need a thread-safe HDF5.
   if (a.parallel > 1 && !io::hdf5ThreadSafe())
     throw core::InputError("--parallel " + std::to_string(a.parallel) +
@@ -84,6 +88,7 @@ int sweepCommand(const SweepArgs& a) {
   spec.run.precision = a.precision;
   spec.run.threads = a.threads;
   spec.parallel = a.parallel;
+  spec.ensemble = a.ensemble;
   const MpiSession& mpi = mpiSession();
   const int n_ranks = mpi.ranks() ? mpi.ranks()->size() : 1;
   const std::size_t n_runs = sim::sweepSettings(spec).size();  // bad input fails here, on every rank

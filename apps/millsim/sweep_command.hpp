@@ -16,6 +16,7 @@ struct SweepArgs {
   std::string precision = "double";
   int threads = 1;  // OpenMP threads per run
   int parallel = 1;
+  bool ensemble = false;  // a rank's runs in one DEM solver
   bool quiet = false;
 };
 

@@ -146,15 +146,28 @@ CalibrationResult Calibrator::run(Journal* journal, const ProgressCallback& prog
     for (std::size_t k = 0; k < batch.size(); ++k)
       if (core::ownsItem(ranks, static_cast<int>(k))) mine.push_back(batch[k]);
     std::vector<Evaluation> finished;
-    const std::exception_ptr failure = core::forEachItem(mine.size(), o.parallel, [&](std::size_t k) {
-      Evaluation ev = m_objective.evaluate(mine[k]);
-      ev.candidate = mine[k];
+    const auto take = [&](Evaluation ev, const Candidate& c) {
+      ev.candidate = c;
       std::lock_guard<std::mutex> lock(mutex);
       if (ranks)
         finished.push_back(ev);
       else
         record(ev);
-    });
+    };
+    std::exception_ptr failure;
+    if (m_objective.batched()) {  // the whole share at once (an ensemble)
+      try {
+        if (!mine.empty()) {
+          const std::vector<Evaluation> all = m_objective.evaluateAll(mine);
+          for (std::size_t k = 0; k < mine.size(); ++k) take(all.at(k), mine[k]);
+        }
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    } else {
+      failure = core::forEachItem(mine.size(), o.parallel,
+                                  [&](std::size_t k) { take(m_objective.evaluate(mine[k]), mine[k]); });
+    }
     if (!ranks) {
       if (failure) std::rethrow_exception(failure);
       return;

@@ -2,6 +2,7 @@
 #include "millsim/calib/simulation_objective.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
+#include "millsim/sim/ensemble_run.hpp"
 
 namespace millsim::calib {
 
@@ -46,13 +48,16 @@ SimulationObjective::SimulationObjective(SimulationObjectiveConfig config) : m_c
       throw core::InputError("--set " + o +
                              ": restitution and friction are what calibrate searches; give their range "
                              "with --e-range / --mu-range");
+  std::vector<scene::Scene> scenes;
   for (std::size_t i = 0; i < n; ++i) {
     const scene::Scene s = io::loadCaseFile(m_config.case_paths[i], runOverrides(m_config.overrides, 0.4, 0.5));
+    scenes.push_back(s);
     if (!s.angle.enabled)
       throw core::InputError(m_config.case_paths[i],
                              s.element_lines.count("angle_of_repose") ? s.element_lines.at("angle_of_repose") : 0,
                              "calibrate needs the angle of repose: <angle_of_repose enabled=\"true\">");
   }
+  if (m_config.ensemble) sim::checkEnsembleCases(scenes);
   m_config.run.write_outputs = false;
   m_config.run.progress = false;
   if (!m_config.runs_dir.empty()) std::filesystem::create_directories(m_config.runs_dir);
@@ -63,58 +68,114 @@ std::string SimulationObjective::signature() const {
   for (std::size_t i = 0; i < m_config.labels.size(); ++i)
     s += ";" + m_config.labels[i] + ":" + m_config.case_paths[i] + "=" + number(m_config.measured_deg[i]);
   for (const std::string& o : m_config.overrides) s += ";set " + o;
+  if (m_config.ensemble) s += ";ensemble";  // shared time step: not the same runs as one at a time
   return s;
 }
+
+scene::Scene SimulationObjective::sceneFor(std::size_t i, const Candidate& c) const {
+  return io::loadCaseFile(m_config.case_paths[i], runOverrides(m_config.overrides, c.e, c.mu));
+}
+
+void SimulationObjective::writeRunJson(const Candidate& c, std::size_t i, const sim::RunSummary& summary) const {
+  if (m_config.runs_dir.empty()) return;
+  nlohmann::ordered_json j;
+  j["index"] = c.index;
+  j["e"] = c.e;
+  j["mu"] = c.mu;
+  j["diameter"] = m_config.labels[i];
+  j["case"] = m_config.case_paths[i];
+  j["status"] = summary.status;
+  j["error"] = summary.error;
+  j["angle_of_repose_deg"] = summary.angle_valid ? nlohmann::json(summary.angle_of_repose_deg) : nlohmann::json();
+  j["angle_stderr_deg"] = summary.angle_stderr_deg;
+  j["angle_frames"] = summary.angle_frames;
+  j["angle_points"] = summary.angle_points;
+  j["particles"] = summary.particles;
+  j["steps"] = summary.steps;
+  j["wall_time_s"] = summary.wall_time_s;
+  j["backend"] = summary.backend;
+  j["precision"] = summary.precision;
+  j["ensemble"] = m_config.ensemble;
+  const auto file =
+      std::filesystem::path(m_config.runs_dir) / (std::to_string(c.index) + "_" + m_config.labels[i] + ".json");
+  std::ofstream(file) << j.dump(2) << "\n";
+}
+
+namespace {
+
+// One diameter's run into the candidate's evaluation: its angle, or why it has none.
+void addRun(Evaluation& ev, const std::string& label, const sim::RunSummary& summary) {
+  if (ev.ok && summary.status != "ok") {
+    ev.ok = false;
+    ev.error = label + ": unstable: " + summary.error;
+  } else if (ev.ok && !summary.angle_valid) {
+    ev.ok = false;
+    ev.error = label + ": no angle: " + summary.angle_error;
+  }
+  ev.angles_deg.push_back(summary.angle_valid ? summary.angle_of_repose_deg : std::nan(""));
+}
+
+}  // namespace
 
 Evaluation SimulationObjective::evaluate(const Candidate& c) const {
   const auto wall0 = std::chrono::steady_clock::now();
   Evaluation ev;
   ev.candidate = c;
   ev.ok = true;
-  for (std::size_t i = 0; i < m_config.labels.size(); ++i) {
-    const scene::Scene scene = io::loadCaseFile(m_config.case_paths[i], runOverrides(m_config.overrides, c.e, c.mu));
+  for (std::size_t i = 0; i < m_config.labels.size() && ev.ok; ++i) {
+    const scene::Scene scene = sceneFor(i, c);
     sim::RunSummary summary;
     try {
       sim::Simulation sim(scene, m_config.run);
       summary = sim.run();
-      if (!summary.angle_valid) {
-        ev.ok = false;
-        ev.error = m_config.labels[i] + ": no angle: " + summary.angle_error;
-      }
     } catch (const core::SimulationError& err) {
       summary.status = "failed";
       summary.error = err.what();
-      ev.ok = false;
-      ev.error = m_config.labels[i] + ": unstable: " + err.what();
     }
-    ev.angles_deg.push_back(summary.angle_valid ? summary.angle_of_repose_deg : std::nan(""));
-    if (!m_config.runs_dir.empty()) {
-      nlohmann::ordered_json j;
-      j["index"] = c.index;
-      j["e"] = c.e;
-      j["mu"] = c.mu;
-      j["diameter"] = m_config.labels[i];
-      j["case"] = m_config.case_paths[i];
-      j["status"] = summary.status;
-      j["error"] = summary.error;
-      j["angle_of_repose_deg"] = summary.angle_valid ? nlohmann::json(summary.angle_of_repose_deg) : nlohmann::json();
-      j["angle_stderr_deg"] = summary.angle_stderr_deg;
-      j["angle_frames"] = summary.angle_frames;
-      j["angle_points"] = summary.angle_points;
-      j["particles"] = summary.particles;
-      j["steps"] = summary.steps;
-      j["wall_time_s"] = summary.wall_time_s;
-      j["backend"] = summary.backend;
-      j["precision"] = summary.precision;
-      const auto file =
-          std::filesystem::path(m_config.runs_dir) / (std::to_string(c.index) + "_" + m_config.labels[i] + ".json");
-      std::ofstream(file) << j.dump(2) << "\n";
-    }
-    if (!ev.ok) break;  // the candidate has failed; its other diameters would not change that
+    addRun(ev, m_config.labels[i], summary);
+    writeRunJson(c, i, summary);
+    // A failed diameter fails the candidate; its other diameters would not change that.
   }
   if (ev.ok) ev.sse = sumSquaredErrors(ev.angles_deg, m_config.measured_deg);
   ev.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return ev;
+}
+
+std::vector<Evaluation> SimulationObjective::evaluateAll(const std::vector<Candidate>& cs) const {
+  if (!m_config.ensemble) return Objective::evaluateAll(cs);
+  const auto wall0 = std::chrono::steady_clock::now();
+  const std::size_t d = m_config.labels.size();
+  sim::EnsembleSpec spec;
+  spec.run = m_config.run;
+  for (const Candidate& c : cs)
+    for (std::size_t i = 0; i < d; ++i) {
+      spec.scenes.push_back(sceneFor(i, c));
+      spec.out_dirs.push_back("");
+    }
+  std::vector<sim::RunSummary> runs(spec.scenes.size());
+  try {
+    runs = sim::runEnsemble(spec);
+  } catch (const core::SimulationError& err) {
+    for (sim::RunSummary& r : runs) {
+      r.status = "failed";
+      r.error = std::string("the ensemble of this batch went unstable: ") + err.what();
+    }
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  std::vector<Evaluation> out;
+  for (std::size_t k = 0; k < cs.size(); ++k) {
+    Evaluation ev;
+    ev.candidate = cs[k];
+    ev.ok = true;
+    for (std::size_t i = 0; i < d; ++i) {
+      addRun(ev, m_config.labels[i], runs[k * d + i]);
+      writeRunJson(cs[k], i, runs[k * d + i]);
+    }
+    if (ev.ok) ev.sse = sumSquaredErrors(ev.angles_deg, m_config.measured_deg);
+    ev.wall_s = wall / static_cast<double>(cs.size());  // its share: the batch's runs shared one solver
+    out.push_back(ev);
+  }
+  return out;
 }
 
 }  // namespace millsim::calib

@@ -52,7 +52,10 @@ core::InputError mismatch(const scene::Scene& s, const char* element, const std:
                               "DEM solver (docs/performance.md, Ensembles)");
 }
 
-void checkShareable(const std::vector<scene::Scene>& scenes) {
+}  // namespace
+
+void checkEnsembleCases(const std::vector<scene::Scene>& scenes) {
+  if (scenes.empty()) throw core::InputError("ensemble: no cases");
   const scene::Scene& a = scenes.front();
   for (const scene::Scene& s : scenes) {
     if (!s.effect_dem || s.effect_sph || s.has_stirrer)
@@ -71,13 +74,11 @@ void checkShareable(const std::vector<scene::Scene>& scenes) {
   }
 }
 
-}  // namespace
-
 std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
   const std::size_t k_count = spec.scenes.size();
   if (k_count == 0) throw core::InputError("ensemble: no cases");
   if (spec.out_dirs.size() != k_count) throw core::InputError("ensemble: one output folder per case is needed");
-  checkShareable(spec.scenes);
+  checkEnsembleCases(spec.scenes);
   if (!spec.run.restart.empty()) throw core::InputError("ensemble: --restart is for single runs");
   if (spec.run.threads > 0) omp_set_num_threads(spec.run.threads);
 

@@ -12,6 +12,7 @@
 
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
+#include "millsim/sim/ensemble_run.hpp"
 
 namespace millsim::sim {
 
@@ -38,12 +39,36 @@ std::string runDir(const std::string& out, int k) {
   return (std::filesystem::path(out) / name).string();
 }
 
-SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, const std::vector<std::string>& values,
-                int k) {
+SweepRow startRow(const SweepSpec& spec, const std::vector<std::string>& values, int k) {
   SweepRow row;
   row.index = k;
   row.values = values;
   row.out_dir = runDir(spec.run.out_dir, k);
+  return row;
+}
+
+void failRow(SweepRow& row, const std::string& error) {
+  row.error = error;
+  row.status = "failed";
+  row.angle_deg = row.budget_residual = std::nan("");
+}
+
+// The row's numbers from the run's summary (the run may have failed after it started).
+void fillRow(SweepRow& row, const RunSummary& s) {
+  row.status = row.error.empty() ? s.status : "failed";
+  row.angle_deg = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
+  row.power_W = s.power_W;
+  row.torque_Nm = s.torque_Nm;
+  row.budget_residual = s.energy_work_in != 0 ? s.energy_residual / s.energy_work_in : std::nan("");
+  row.simulated_s = s.simulated_time_s;
+  row.wall_s = s.wall_time_s;
+  row.steps = s.steps;
+  row.sph_excluded = s.sph_excluded;
+}
+
+SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, const std::vector<std::string>& values,
+                int k) {
+  SweepRow row = startRow(spec, values, k);
   RunOptions opt = spec.run;
   opt.out_dir = row.out_dir;
   opt.progress = false;
@@ -54,22 +79,34 @@ SweepRow runOne(const SweepSpec& spec, const std::vector<std::string>& sets, con
     simulation = std::make_unique<Simulation>(io::loadCaseFile(spec.case_path, sets), opt);
     simulation->run();
   } catch (const std::exception& e) {
-    row.error = e.what();
-    row.status = "failed";
-    row.angle_deg = row.budget_residual = std::nan("");
+    failRow(row, e.what());
     if (!simulation) return row;
   }
-  const RunSummary& s = simulation->summary();
-  row.status = row.error.empty() ? s.status : "failed";
-  row.angle_deg = s.angle_valid ? s.angle_of_repose_deg : std::nan("");
-  row.power_W = s.power_W;
-  row.torque_Nm = s.torque_Nm;
-  row.budget_residual = s.energy_work_in != 0 ? s.energy_residual / s.energy_work_in : std::nan("");
-  row.simulated_s = s.simulated_time_s;
-  row.wall_s = s.wall_time_s;
-  row.steps = s.steps;
-  row.sph_excluded = s.sph_excluded;
+  fillRow(row, simulation->summary());
   return row;
+}
+
+// This rank's runs as one ensemble: one row per run; a failure (the shared solver went unstable,
+// cases that cannot share it) fails every row with the cause.
+std::vector<SweepRow> runEnsembleRows(const SweepSpec& spec, const std::vector<std::vector<std::string>>& settings,
+                                      const std::vector<std::vector<std::string>>& combos,
+                                      const std::vector<int>& mine) {
+  std::vector<SweepRow> rows;
+  EnsembleSpec e;
+  e.run = spec.run;
+  e.run.progress = false;
+  for (const int k : mine) {
+    rows.push_back(startRow(spec, combos[k], k));
+    e.scenes.push_back(io::loadCaseFile(spec.case_path, settings[k]));
+    e.out_dirs.push_back(rows.back().out_dir);
+  }
+  try {
+    const std::vector<RunSummary> summaries = runEnsemble(e);
+    for (std::size_t i = 0; i < rows.size(); ++i) fillRow(rows[i], summaries[i]);
+  } catch (const std::exception& err) {
+    for (SweepRow& row : rows) failRow(row, std::string("in the ensemble of this rank's runs: ") + err.what());
+  }
+  return rows;
 }
 
 // Rows between ranks. Numbers as JSON (nlohmann writes doubles to round trip); NaN has no JSON
@@ -121,12 +158,15 @@ std::vector<std::vector<std::string>> sweepSettings(const SweepSpec& spec) {
       throw core::InputError("--vary " + a.path + ": given twice");
   }
   std::vector<std::vector<std::string>> all;
+  std::vector<scene::Scene> scenes;
   for (const auto& values : grid(spec.axes)) {
     std::vector<std::string> sets = spec.sets;
     for (std::size_t i = 0; i < values.size(); ++i) sets.push_back(spec.axes[i].path + "=" + values[i]);
-    io::loadCaseFile(spec.case_path, sets);  // throws InputError naming the file and the field
+    scenes.push_back(io::loadCaseFile(spec.case_path, sets));  // throws InputError naming the file and the field
     all.push_back(std::move(sets));
   }
+  // An ensemble's runs must be able to share one solver: a varied stiffness cannot.
+  if (spec.ensemble) checkEnsembleCases(scenes);
   return all;
 }
 
@@ -142,12 +182,19 @@ std::vector<SweepRow> runSweep(const SweepSpec& spec, const core::RankGroup* ran
 
   std::vector<SweepRow> done;
   std::mutex mutex;
-  const std::exception_ptr failure = core::forEachItem(mine.size(), spec.parallel, [&](std::size_t i) {
-    SweepRow row = runOne(spec, settings[mine[i]], combos[mine[i]], mine[i]);
-    std::lock_guard<std::mutex> lock(mutex);
-    if (progress) progress(row);
-    done.push_back(std::move(row));
-  });
+  std::exception_ptr failure;
+  if (spec.ensemble) {
+    if (!mine.empty()) done = runEnsembleRows(spec, settings, combos, mine);
+    if (progress)
+      for (const SweepRow& row : done) progress(row);
+  } else {
+    failure = core::forEachItem(mine.size(), spec.parallel, [&](std::size_t i) {
+      SweepRow row = runOne(spec, settings[mine[i]], combos[mine[i]], mine[i]);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (progress) progress(row);
+      done.push_back(std::move(row));
+    });
+  }
   if (ranks) {
     nlohmann::json share = nlohmann::json::array();
     for (const SweepRow& r : done) share.push_back(toJson(r));

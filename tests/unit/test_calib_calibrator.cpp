@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <stdexcept>
 
 #include "millsim/calib/analytic_objective.hpp"
 #include "millsim/calib/calibrator.hpp"
@@ -181,6 +182,58 @@ TEST(Parallel, BatchesOfDistinctCandidatesOnThreads) {
     EXPECT_NEAR(best(r).candidate.mu, kMu0, 0.016) << method;
     calib::Journal again((dir / "evaluations.csv").string(), f.signature(), {});
     EXPECT_EQ(again.loaded().size(), r.state.evaluations.size());
+  }
+}
+
+// A batched objective (an ensemble: every run of a batch in one solver) gets each batch in one
+// evaluateAll call: the initial design at once, then --parallel candidates at a time, and the
+// calibration takes the same steps as with one candidate per thread.
+class BatchedObjective : public calib::Objective {
+ public:
+  explicit BatchedObjective(const calib::Objective& inner) : m_inner(inner) {}
+  calib::Evaluation evaluate(const calib::Candidate&) const override {
+    throw std::logic_error("a batched objective is evaluated in batches");
+  }
+  std::vector<calib::Evaluation> evaluateAll(const std::vector<calib::Candidate>& cs) const override {
+    m_batches.push_back(static_cast<int>(cs.size()));
+    std::vector<calib::Evaluation> out;
+    for (const auto& c : cs) out.push_back(m_inner.evaluate(c));
+    return out;
+  }
+  bool batched() const override { return true; }
+  std::string signature() const override { return m_inner.signature(); }
+  const std::vector<int>& batches() const { return m_batches; }
+
+ private:
+  const calib::Objective& m_inner;
+  mutable std::vector<int> m_batches;
+};
+
+TEST(Batched, AnEnsembleObjectiveGetsWholeBatchesAndTakesTheStepsOfThreads) {
+  for (const std::string method : {"paper", "bo"}) {
+    const auto f = calib::noisyBowl(kE0, kMu0, 0.3);
+    calib::CalibrationOptions o = options(method, 21);
+    o.parallel = 3;
+    const auto threads = calib::Calibrator(f, o).run(nullptr);
+    const BatchedObjective batched(f);
+    const auto together = calib::Calibrator(batched, o).run(nullptr);
+    ASSERT_EQ(together.state.evaluations.size(), threads.state.evaluations.size()) << method;
+    for (std::size_t i = 0; i < threads.state.evaluations.size(); ++i) {
+      EXPECT_EQ(together.state.evaluations[i].candidate.e, threads.state.evaluations[i].candidate.e) << method << i;
+      EXPECT_EQ(together.state.evaluations[i].candidate.mu, threads.state.evaluations[i].candidate.mu) << method << i;
+      EXPECT_EQ(together.state.evaluations[i].sse, threads.state.evaluations[i].sse) << method << i;
+    }
+    EXPECT_EQ(together.recommended, threads.recommended) << method;
+    const std::vector<int>& b = batched.batches();
+    ASSERT_GE(b.size(), 2u) << method;
+    EXPECT_EQ(b[0], 6) << method;  // the initial design
+    int total = 0;
+    for (std::size_t k = 1; k < b.size(); ++k) {
+      EXPECT_LE(b[k], 3) << method;
+      EXPECT_GE(b[k], 1) << method;
+    }
+    for (int n : b) total += n;
+    EXPECT_EQ(total, static_cast<int>(threads.state.evaluations.size())) << method;
   }
 }
 

@@ -5,7 +5,8 @@
 //   3. stop when `patience` successive candidates after the initial ones brought no
 //      improvement (SSE not strictly below the best so far), or after `max_evals` evaluations.
 // With parallel = k, k candidates are evaluated at once on k threads (the initial design at
-// once, then batches of k from the proposer); with R MPI ranks, batches of k R, each rank taking
+// once, then batches of k from the proposer), or, for a batched objective (an ensemble), in one
+// evaluateAll call; with R MPI ranks, batches of k R, each rank taking
 // every R-th candidate, the results gathered on every rank. Each finished evaluation goes to the
 // journal at once; on start the journal's rows are taken as done, so a resumed calibration
 // re-evaluates nothing (an initial candidate whose index is in the journal is skipped, the
@@ -30,7 +31,7 @@ struct CalibrationOptions {
   int initial = 6;            // space-filling initial candidates (paper: 6)
   int patience = 3;           // successive candidates without improvement that stop it (paper: 3)
   int max_evals = 40;         // evaluations in all, initial ones and journal rows included
-  int parallel = 1;           // candidates evaluated at once (threads), per rank
+  int parallel = 1;           // candidates evaluated at once (threads, or one ensemble), per rank
   // MPI ranks (null: one process). Each rank evaluates its share of every batch (batches of
   // parallel x ranks candidates); rank 0 alone should be given the journal.
   const core::RankGroup* ranks = nullptr;

@@ -32,6 +32,15 @@ class Objective {
   // that should stop the calibration (bad input); a failed simulation is an Evaluation with
   // ok = false.
   virtual Evaluation evaluate(const Candidate& c) const = 0;
+  // Several candidates at once, results in their order. An objective that runs them together
+  // (an ensemble in one solver: batched() true) overrides it, and the calibrator then hands it
+  // a rank's whole share of a batch instead of one candidate per thread.
+  virtual std::vector<Evaluation> evaluateAll(const std::vector<Candidate>& cs) const {
+    std::vector<Evaluation> out;
+    for (const Candidate& c : cs) out.push_back(evaluate(c));
+    return out;
+  }
+  virtual bool batched() const { return false; }
   // Labels of the per-candidate values in angles_deg ("300", "400", ...), journal columns.
   virtual std::vector<std::string> labels() const { return {}; }
   // Everything that changes what evaluate() returns (measured angles, cases, overrides). The

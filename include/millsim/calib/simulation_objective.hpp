@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "millsim/calib/objective.hpp"
+#include "millsim/scene/scene.hpp"
 #include "millsim/sim/simulation.hpp"
 
 namespace millsim::calib {
@@ -20,6 +21,11 @@ struct SimulationObjectiveConfig {
   std::vector<std::string> overrides;   // "--set" strings for every run
   sim::RunOptions run;                  // backend, precision, threads (write_outputs forced false)
   std::string runs_dir;                 // where the per-run JSON goes; empty: none
+  // Every run of a batch (candidates x diameters) in one DEM solver (sim::runEnsemble): on a
+  // GPU the batch is one launch per stage instead of one run at a time. The runs then share
+  // the smallest time step of the diameters, an unstable run fails its whole batch, and each
+  // evaluation's wall_s is its share of the batch's wall time.
+  bool ensemble = false;
 };
 
 class SimulationObjective : public Objective {
@@ -29,10 +35,16 @@ class SimulationObjective : public Objective {
   explicit SimulationObjective(SimulationObjectiveConfig config);
 
   Evaluation evaluate(const Candidate& c) const override;
+  std::vector<Evaluation> evaluateAll(const std::vector<Candidate>& cs) const override;
+  bool batched() const override { return m_config.ensemble; }
   std::vector<std::string> labels() const override { return m_config.labels; }
   std::string signature() const override;
 
  private:
+  // The scene of diameter i with (e, mu) set.
+  scene::Scene sceneFor(std::size_t i, const Candidate& c) const;
+  // OUT/runs/<index>_<D>.json of one run, when runs_dir is set.
+  void writeRunJson(const Candidate& c, std::size_t i, const sim::RunSummary& summary) const;
   SimulationObjectiveConfig m_config;
 };
 

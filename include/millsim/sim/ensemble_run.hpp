@@ -32,4 +32,8 @@ struct EnsembleSpec {
 // failure stops every case (they share the solver), and each case's summary.json says why.
 std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec);
 
+// The check runEnsemble makes first, for callers that load their cases long before they run
+// them (calibrate): throws core::InputError naming the case and the field that differs.
+void checkEnsembleCases(const std::vector<scene::Scene>& scenes);
+
 }  // namespace millsim::sim

@@ -23,6 +23,10 @@ struct SweepSpec {
   std::vector<SweepAxis> axes;    // the first varies slowest
   RunOptions run;                 // out_dir: the sweep's folder; run k writes to out_dir/run_<k>
   int parallel = 1;               // runs side by side per rank (threads)
+  // A rank's runs as one ensemble in one DEM solver (ensemble_run.hpp; balls-only drum cases):
+  // each run's folder gets summary.json, series.csv and the angle images, no fields or
+  // checkpoint; an unstable run fails the rank's whole ensemble.
+  bool ensemble = false;
 };
 
 struct SweepRow {
