@@ -68,7 +68,6 @@ std::string SimulationObjective::signature() const {
   for (std::size_t i = 0; i < m_config.labels.size(); ++i)
     s += ";" + m_config.labels[i] + ":" + m_config.case_paths[i] + "=" + number(m_config.measured_deg[i]);
   for (const std::string& o : m_config.overrides) s += ";set " + o;
-  if (m_config.ensemble) s += ";ensemble";  // shared time step: not the same runs as one at a time
   return s;
 }
 

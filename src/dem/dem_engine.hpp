@@ -20,6 +20,8 @@ struct DemEnsemble {
   double origin = 0, pitch = 0;         // scene k's slab: z in [origin + k pitch, origin + (k + 1) pitch)
   double lead = 0;                      // scene k's local z = 0 (its front plate) at origin + k pitch + lead
   std::vector<double> alpha, friction;  // contact law per scene (k_coef and the law's kind are the setup's)
+  std::vector<double> skin;             // neighbour skin per scene (empty: the setup's for all; the setup's
+                                        // skin, at least the largest, sizes the cells)
   int scenes() const { return start.empty() ? 0 : static_cast<int>(start.size()) - 1; }
 };
 
@@ -136,11 +138,12 @@ class DemEngine {
   virtual void initialize(const StirrerState& walls) = 0;
   virtual void step(const StirrerState& walls, double dt) = 0;
   virtual StirredSums stirredSums() const = 0;
-  // Ensembles (DemSetup::ensemble): the same step with every scene's drum, in scene order, and
-  // the sums of each scene (its particles' energies, work, torque, centre of mass in the
-  // ensemble's frame: x and y as the scene's own, z shifted by its slab).
+  // Ensembles (DemSetup::ensemble): the same step with every scene's drum and its own time step
+  // (dt[k] = 0: scene k has ended and rests, no forces evaluated), in scene order, and the sums
+  // of each scene (its particles' energies, work, torque, centre of mass in the ensemble's
+  // frame: x and y as the scene's own, z shifted by its slab).
   virtual void initialize(const std::vector<DrumState>& drums) = 0;
-  virtual void step(const std::vector<DrumState>& drums, double dt) = 0;
+  virtual void step(const std::vector<DrumState>& drums, const std::vector<double>& dt) = 0;
   virtual std::vector<DemSums> sceneSums() const = 0;
   // Per bead, in host numbering: tallies (collision_stats.hpp).
   virtual void collisionTallies(std::vector<CollisionTally>& out) const = 0;

@@ -43,13 +43,14 @@ struct ParticleView {
   const T* contact_mass;
 };
 
-// Half-kick of velocity Verlet: v += dt/2 a, w += dt/2 alpha.
-template <class T>
+// Half-kick of velocity Verlet: v += dt/2 a, w += dt/2 alpha. Dt is the step (T), or an
+// ensemble's step per case (SceneTable: the particle's case's, 0 for a case that has ended).
+template <class T, class Dt = T>
 struct Kick {
   ParticleView<T> p;
-  T dt;
+  Dt dt;
   MILLSIM_HD void operator()(int i) const {
-    const T h = T(0.5) * dt;
+    const T h = T(0.5) * valueAt(dt, p.pos[i]);
     p.vel[i] += (h * p.inv_mass[i]) * p.force[i];
     p.omega[i] += (h * p.inv_inertia[i]) * p.torque[i];
   }
@@ -58,13 +59,14 @@ struct Kick {
 // First half-kick and drift: v += dt/2 a(t), x += dt v. The force and torque sums are used up
 // here, so they are cleared for the coming contact pass in the same sweep (one pass over the
 // particles less per step).
-template <class T>
+template <class T, class Dt = T>
 struct KickDrift {
   ParticleView<T> p;
-  T dt;
+  Dt dt;
   MILLSIM_HD void operator()(int i) const {
-    Kick<T>{p, dt}(i);
-    p.pos[i] += dt * p.vel[i];
+    const T h = valueAt(dt, p.pos[i]);  // before the drift: the case's slab
+    Kick<T>{p, h}(i);
+    p.pos[i] += h * p.vel[i];
     p.force[i] = core::zero3<T>();
     p.torque[i] = core::zero3<T>();
   }
@@ -105,12 +107,26 @@ struct DisplacementSq {
   }
 };
 
+// An ensemble's: the squared displacement over the particle's case's half skin squared (> 1:
+// rebuild), or +inf for a non-finite position.
+template <class T>
+struct ScaledDisplacementSq {
+  const Vec3<T>* pos;
+  const Vec3<T>* ref;
+  SceneTable<T> skin;
+  MILLSIM_HD T operator()(int i) const {
+    const T h = T(0.5) * valueAt(skin, ref[i]);
+    const T d2 = DisplacementSq<T>{pos, ref}(i) / (h * h);
+    return d2 == d2 ? d2 : T(1e30);
+  }
+};
+
 // Half Verlet neighbour list from the cell list, stored compact (CSR): j > i is listed when the
 // gap is below `skin`. Run twice per rebuild: with list == nullptr it only counts (count[i]),
 // then, with start[] the exclusive scan of the counts, it writes list[start[i] ..]. Compact rows
 // keep the per-slot springs contiguous, so the force pass streams them (a fixed-capacity row
 // per particle left most of each row empty and made the spring loads miss the cache).
-template <class T>
+template <class T, class Skin = T>
 struct BuildNeighbourList {
   neighbors::CellListView<T> cells;
   const Vec3<T>* pos;
@@ -119,19 +135,20 @@ struct BuildNeighbourList {
   int* count;        // pass 1 output
   const int* start;  // pass 2 input
   int* list;         // pass 2 output (nullptr in pass 1)
-  T skin;
+  Skin skin;         // T, or an ensemble's per case (SceneTable)
   T range_factor = T(0);         // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
   const int* body_of = nullptr;  // DCDEM: elements of one body (same id >= 0) never pair
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi = pos[i];
     const T ri = radius[i];
+    const T skin_i = valueAt(skin, xi);
     int c = 0;
     const int base = list ? start[i] : 0;
     const int bi = body_of ? body_of[i] : -1;
     cells.forEachCandidate(xi, [&](int j) {
       if (j <= i) return;
       if (bi >= 0 && body_of[j] == bi) return;
-      const T reach = (T(1) + range_factor) * (ri + radius[j]) + skin;
+      const T reach = (T(1) + range_factor) * (ri + radius[j]) + skin_i;
       if (core::norm2(xi - pos[j]) < reach * reach) {
         if (list) list[base + c] = j;
         ++c;
@@ -172,7 +189,7 @@ struct HasFixedWalls<W, std::void_t<decltype(W::kHasFixedWalls)>> : std::bool_co
 // list, each evaluated once with the contact law. The force on i is summed in registers; the
 // reaction on j (and half the pair's dissipation) goes to the sink. The pair's elastic energy is
 // booked to i alone: only its total is used, and one scattered add less per pair is measurable.
-template <class T, class Law, class Sink, class Walls = DrumWalls<T>, class Extra = NoPairExtra<T>>
+template <class T, class Law, class Sink, class Walls = DrumWalls<T>, class Extra = NoPairExtra<T>, class Dt = T>
 struct ContactForces {
   ParticleView<T> p;
   const int* nbr_start;  // particle i's partners: nbr_list[nbr_start[i] .. nbr_start[i + 1])
@@ -191,7 +208,7 @@ struct ContactForces {
   Law law;
   T wall_mass_factor;
   Vec3<T> gravity;
-  T dt;
+  Dt step;  // the step (T), or an ensemble's per case (SceneTable)
   Sink sink;
   Extra extra{};
   T* fixed_wall_torque = nullptr;  // HasFixedWalls: torque of the still walls about +z, N m
@@ -199,8 +216,14 @@ struct ContactForces {
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
     const T ri = p.radius[i], mi = p.contact_mass[i];
-    // The law of i's scene (an ensemble's per-scene e and mu); a plain law is itself.
+    // The law and step of i's scene (an ensemble's per-scene e, mu and dt); plain ones are themselves.
     const auto law_i = lawAt(law, xi_pos);
+    const T dt = valueAt(step, xi_pos);
+    // An ensemble's case that has reached its end rests: no forces, no bookkeeping (its pairs
+    // and walls are its own, so nothing else is touched).
+    if constexpr (!std::is_same_v<Dt, T>) {
+      if (dt == T(0)) return;
+    }
     Vec3<T> f = p.mass[i] * gravity;
     Vec3<T> tq = core::zero3<T>();
     T diss_rate = T(0), elastic = T(0), drum_tq = T(0), power_in = T(0);

@@ -397,7 +397,7 @@ class DemSolver final : public DemEngine {
     }
   }
 
-  void step(const StirrerState& walls, double dt_in) override { stepWith(walls, T(dt_in)); }
+  void step(const StirrerState& walls, double dt_in) override { stepWith(walls, T(dt_in), dt_in); }
 
   StirredSums stirredSums() const override {
     StirredSums s;
@@ -428,11 +428,25 @@ class DemSolver final : public DemEngine {
     for (std::size_t i = 0; i < t.size(); ++i) out[static_cast<std::size_t>(id[i])] = t[i];
   }
 
-  void step(const DrumState& walls, double dt_in) override { stepWith(walls, T(dt_in)); }
-  void step(const std::vector<DrumState>& drums, double dt_in) override { stepWith(drums, T(dt_in)); }
+  void step(const DrumState& walls, double dt_in) override { stepWith(walls, T(dt_in), dt_in); }
+  // Each case by its own step (0: a case that has ended rests).
+  void step(const std::vector<DrumState>& drums, const std::vector<double>& dt) override {
+    if (!ensemble() || dt.size() != drums.size() || static_cast<int>(dt.size()) != m_slabs.count)
+      throw std::invalid_argument("DemSolver: one drum state and one time step per ensemble scene expected");
+    double largest = 0;
+    for (std::size_t k = 0; k < dt.size(); ++k) {
+      m_host_dt[k] = T(dt[k]);
+      largest = std::max(largest, dt[k]);
+    }
+    m_scene_dt.copyFromHost(m_host_dt);
+    stepWith(drums, SceneTable<T>{m_scene_dt.data(), m_slabs}, largest);
+  }
 
-  template <class Walls>
-  void stepWith(const Walls& walls, T dt) {
+  // One step with the walls' state at its end; dt is the step (T) or an ensemble's per case
+  // (SceneTable; spheres only, no bodies or external loads), dt_report its largest value.
+  template <class Walls, class Dt>
+  void stepWith(const Walls& walls, Dt dt, double dt_report) {
+    constexpr bool kPlain = std::is_same_v<Dt, T>;
     ++m_steps;
     // The body loads of the last contact pass are current, unless a new held external load came
     // since: then they are summed again before KickDrift clears the element forces.
@@ -440,26 +454,29 @@ class DemSolver final : public DemEngine {
       bodyLoads();
       m_body_loads_stale = false;
     }
-    backend::parallelFor(Space{}, m_n, KickDrift<T>{view(), dt});
+    backend::parallelFor(Space{}, m_n, KickDrift<T, Dt>{view(), dt});
     m_sums_cleared = true;
-    if (m_nb > 0) {
-      backend::parallelFor(Space{}, m_nb, BodyKickDrift<T>{bodyView(), dt});
-      placeElements();
+    if constexpr (kPlain) {
+      if (m_nb > 0) {
+        backend::parallelFor(Space{}, m_nb, BodyKickDrift<T>{bodyView(), dt});
+        placeElements();
+      }
     }
-    const T half_skin = T(0.5 * m_setup.skin);
-    const T moved2 = backend::reduceMax<T>(Space{}, m_n, T(0), DisplacementSq<T>{m_pos.data(), m_pos_ref.data()});
-    if (!(moved2 < T(1e29))) throw divergence(dt);
-    if (moved2 > half_skin * half_skin) rebuildNeighbours();
+    if (movedPastHalfSkin(dt_report)) rebuildNeighbours();
     computeForces(walls, dt);
-    if (m_has_body_external)
-      backend::parallelFor(Space{}, m_nb,
-                           BodyExternalWork<T>{bodyView(), m_body_ext_force.data(), m_body_ext_torque.data(),
-                                               m_body_work_ext.data(), dt});
-    backend::parallelFor(Space{}, m_n, Kick<T>{view(), dt});
-    if (m_nb > 0) {
-      bodyLoads();
-      backend::parallelFor(Space{}, m_nb, BodyKick<T>{bodyView(), dt});
-      placeElements();
+    if constexpr (kPlain) {
+      if (m_has_body_external)
+        backend::parallelFor(Space{}, m_nb,
+                             BodyExternalWork<T>{bodyView(), m_body_ext_force.data(), m_body_ext_torque.data(),
+                                                 m_body_work_ext.data(), dt});
+    }
+    backend::parallelFor(Space{}, m_n, Kick<T, Dt>{view(), dt});
+    if constexpr (kPlain) {
+      if (m_nb > 0) {
+        bodyLoads();
+        backend::parallelFor(Space{}, m_nb, BodyKick<T>{bodyView(), dt});
+        placeElements();
+      }
     }
   }
 
@@ -500,7 +517,7 @@ class DemSolver final : public DemEngine {
                                m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() + m_scratch_int2.bytes() +
                                m_body_ext_force.bytes() + m_body_ext_torque.bytes() + m_body_work_ext.bytes()},
             {"dem.lubrication", m_lub_dissipated.bytes()},
-            {"dem.ensemble", m_scene_params.bytes() + m_scene_drums.bytes()},
+            {"dem.ensemble", m_scene_params.bytes() + m_scene_drums.bytes() + m_scene_dt.bytes() + m_scene_skin.bytes()},
             {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
                               m_old_list.bytes() + m_pos_ref.bytes()}};
   }
@@ -763,8 +780,37 @@ class DemSolver final : public DemEngine {
       m_pair_xi.swap(m_old_xi);
     }
     if (m_nbr_start.size() != static_cast<std::size_t>(m_n) + 1) m_nbr_start.resize(m_n + 1, 0);
-    BuildNeighbourList<T> build{m_cells.view(),     m_pos.data(), m_radius.data(), m_pos_ref.data(),
-                                m_nbr_count.data(), nullptr,      nullptr,         T(m_setup.skin)};
+    if (ensemble())
+      buildList(SceneTable<T>{m_scene_skin.data(), m_slabs});
+    else
+      buildList(T(m_setup.skin));
+    const SpringTable<T> old{m_old_start.data(), m_old_list.data(), m_old_xi.data()};
+    backend::parallelFor(Space{}, m_n,
+                         TransferPairSprings<T>{old, old_of_new, m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data()});
+    m_old_is_seed = false;
+  }
+
+  // Has any particle moved half its skin since the list was built (throws on a diverged one)?
+  bool movedPastHalfSkin(double dt_report) const {
+    if (ensemble()) {  // each case against its own skin
+      const T moved = backend::reduceMax<T>(
+          Space{}, m_n, T(0),
+          ScaledDisplacementSq<T>{m_pos.data(), m_pos_ref.data(), SceneTable<T>{m_scene_skin.data(), m_slabs}});
+      if (!(moved < T(1e29))) throw divergence(T(dt_report));
+      return moved > T(1);
+    }
+    const T half_skin = T(0.5 * m_setup.skin);
+    const T moved2 = backend::reduceMax<T>(Space{}, m_n, T(0), DisplacementSq<T>{m_pos.data(), m_pos_ref.data()});
+    if (!(moved2 < T(1e29))) throw divergence(T(dt_report));
+    return moved2 > half_skin * half_skin;
+  }
+
+  // The half neighbour list of the current numbering: count, scan, write (the skin one value,
+  // or an ensemble's per case).
+  template <class Skin>
+  void buildList(Skin skin) {
+    BuildNeighbourList<T, Skin> build{m_cells.view(),     m_pos.data(), m_radius.data(), m_pos_ref.data(),
+                                      m_nbr_count.data(), nullptr,      nullptr,         skin};
     build.range_factor = T(lubricated() ? m_setup.lubrication_outer : 0.0);
     if (m_nb > 0) build.body_of = m_body_of.data();
     backend::parallelFor(Space{}, m_n, build);
@@ -778,10 +824,6 @@ class DemSolver final : public DemEngine {
     build.start = m_nbr_start.data();
     build.list = m_nbr_list.data();
     backend::parallelFor(Space{}, m_n, build);
-    const SpringTable<T> old{m_old_start.data(), m_old_list.data(), m_old_xi.data()};
-    backend::parallelFor(Space{}, m_n,
-                         TransferPairSprings<T>{old, old_of_new, m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data()});
-    m_old_is_seed = false;
   }
 
   // The particle sums, each through pick(functor): all particles (pick returns the functor) or
@@ -829,6 +871,12 @@ class DemSolver final : public DemEngine {
     m_slabs = SlabLayout<T>{T(e.origin), T(e.pitch), T(1.0 / e.pitch), T(e.lead), k};
     m_host_drums.assign(n, DrumWalls<T>{});
     m_scene_drums.copyFromHost(m_host_drums);
+    m_host_dt.assign(n, T(0));
+    m_scene_dt.copyFromHost(m_host_dt);
+    std::vector<T> skin(n, T(m_setup.skin));
+    if (e.skin.size() == n)
+      for (std::size_t q = 0; q < n; ++q) skin[q] = T(std::min(e.skin[q], m_setup.skin));
+    m_scene_skin.copyFromHost(skin);
   }
 
   // Every scene's drum walls for this step, through a table in the execution space's memory
@@ -864,14 +912,14 @@ class DemSolver final : public DemEngine {
 
   // One contact pass for any walls (drum, stirrer), law and pair hook: clears the sums and runs
   // ContactForces through the backend's partner sink. External loads only exist in wet runs.
-  template <class Walls, class Law, class Extra = NoPairExtra<T>>
-  void launchContacts(const Walls& walls, T dt, Law law, Extra extra = Extra{}, T* fixed_wall_torque = nullptr) {
+  template <class Walls, class Law, class Extra = NoPairExtra<T>, class Dt = T>
+  void launchContacts(const Walls& walls, Dt dt, Law law, Extra extra = Extra{}, T* fixed_wall_torque = nullptr) {
     if (!m_sums_cleared) backend::parallelFor(Space{}, m_n, ClearContactSums<T>{m_force.data(), m_torque.data()});
     m_sums_cleared = false;
     const PartnerTargets<T> targets{m_force.data(), m_torque.data(), m_dissipated.data()};
     const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
     m_scatter.run(m_n, targets, [&](auto sink) {
-      return ContactForces<T, Law, decltype(sink), Walls, Extra>{view(),
+      return ContactForces<T, Law, decltype(sink), Walls, Extra, Dt>{view(),
                                                                  m_nbr_start.data(),
                                                                  m_nbr_list.data(),
                                                                  m_pair_xi.data(),
@@ -910,7 +958,10 @@ class DemSolver final : public DemEngine {
     withDrumLaw([&](auto law) { launchContacts(drum, dt, law); });
   }
 
-  void computeForces(const std::vector<DrumState>& drums, T dt) {
+  // An ensemble: every case's drum and law; dt one step for all (T: the initial forces, dt = 0)
+  // or each case's own (SceneTable).
+  template <class Dt>
+  void computeForces(const std::vector<DrumState>& drums, Dt dt) {
     const EnsembleDrumWalls<T> walls = ensembleWalls(drums);
     withDrumLaw([&](auto law) {
       launchContacts(walls, dt, EnsembleLaw<decltype(law), HertzParams<T>, T>{m_scene_params.data(), m_slabs});
@@ -994,6 +1045,9 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, HertzParams<T>> m_scene_params;
   backend::Array<Space, DrumWalls<T>> m_scene_drums;
   std::vector<DrumWalls<T>> m_host_drums;
+  backend::Array<Space, T> m_scene_dt;    // each case's step; 0: the case has ended
+  backend::Array<Space, T> m_scene_skin;  // each case's neighbour skin (at most the setup's, which sizes the cells)
+  std::vector<T> m_host_dt;
   SlabLayout<T> m_slabs{};
   int m_n = 0;
   std::int64_t m_rebuilds = 0;

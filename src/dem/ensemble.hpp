@@ -56,6 +56,27 @@ MILLSIM_HD Law lawAt(const EnsembleLaw<Law, Params, T>& e, const core::Vec3<T>& 
   return Law{e.params[e.slabs.scene(x.z)]};
 }
 
+// A value per scene, looked up by a particle's slab: the time step (each case advances by its
+// own dt, its own contact time, so a batch costs the steps its runs would take alone; a case
+// that has ended has dt = 0 and rests) and the neighbour skin (each case's own, so a case of
+// large balls is not rebuilt at the small balls' rate). A plain value passes through valueAt
+// unchanged.
+template <class T>
+struct SceneTable {
+  const T* value;  // one per scene, in the execution space's memory
+  SlabLayout<T> slabs;
+};
+
+template <class T>
+MILLSIM_HD T valueAt(T v, const core::Vec3<T>&) {
+  return v;
+}
+
+template <class T>
+MILLSIM_HD T valueAt(const SceneTable<T>& s, const core::Vec3<T>& x) {
+  return s.value[s.slabs.scene(x.z)];
+}
+
 // The drum walls of every scene: a particle meets its own scene's drum, in scene-local
 // coordinates; the contact point goes back to the ensemble's frame (its x, y give the torque
 // about the drum axis, which every scene shares).

@@ -41,6 +41,9 @@ struct Member {
   std::unique_ptr<SeriesWriter> series;
   double next_series = 0, next_frame = 0, frame_dt = 0, steady_start = 0;
   double steady_t0 = -1, steady_work0 = 0;
+  double dt = 0, t = 0;  // its own time step and time
+  long long steps = 0;
+  bool done = false;  // reached time.end: its summary is final, its balls rest
 };
 
 // The case and line of a field that differs from the first case's, as an input error.
@@ -82,10 +85,10 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
   if (!spec.run.restart.empty()) throw core::InputError("ensemble: --restart is for single runs");
   if (spec.run.threads > 0) omp_set_num_threads(spec.run.threads);
 
-  // Charges, motions and the solver's shared setup: the smallest time step and skin, the largest
-  // ball, the widest drum, the longest generation drum.
+  // Charges, motions, each case's own time step and skin, and the solver's shared setup: the
+  // largest skin and ball (the cells), the widest drum, the longest generation drum.
   std::vector<Member> members(k_count);
-  double dt = 1e300, skin = 1e300, max_radius = 0, max_drum = 0, max_length = 0;
+  double skin = 0, max_radius = 0, max_drum = 0, max_length = 0;
   for (std::size_t k = 0; k < k_count; ++k) {
     Member& m = members[k];
     m.scene = &spec.scenes[k];
@@ -95,8 +98,8 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
       m.angle = std::make_unique<vision::FrontViewAngle>(m.scene->drum.diameter, drumAngleOptions(*m.scene));
     m.out = spec.out_dirs[k];
     const dem::DemSetup own = drumDemSetup(*m.scene, m.charge);
-    dt = std::min(dt, drumTimeStep(*m.scene, m.charge));
-    skin = std::min(skin, own.skin);
+    m.dt = drumTimeStep(*m.scene, m.charge);
+    skin = std::max(skin, own.skin);
     max_radius = std::max(max_radius, own.max_radius);
     max_drum = std::max(max_drum, 0.5 * m.scene->drum.diameter);
     max_length = std::max(max_length, m.charge.generation_length);
@@ -121,6 +124,7 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
     Member& m = members[k];
     const dem::DemSetup own = drumDemSetup(*m.scene, m.charge);
     ens.alpha.push_back(own.alpha);
+    ens.skin.push_back(own.skin);
     ens.friction.push_back(own.friction);
     m.z0 = ens.origin + static_cast<double>(k) * ens.pitch + ens.lead;
     m.lo = ens.start.back();
@@ -144,31 +148,28 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
   const std::unique_ptr<dem::DemEngine> engine = makeDemEngine(setup, spec.run);
   engine->setState(state);
 
-  double t = 0;
-  long long step = 0;
   std::vector<dem::DrumState> drums(k_count);
-  auto drumStates = [&](double at) {
-    for (std::size_t k = 0; k < k_count; ++k) drums[k] = members[k].motion->at(at, members[k].phi);
-    return drums;
-  };
-  engine->initialize(drumStates(0.0));
+  std::vector<double> steps(k_count, 0.0);
+  for (std::size_t k = 0; k < k_count; ++k) drums[k] = members[k].motion->at(0.0, 0.0);
+  engine->initialize(drums);
   {
     const std::vector<dem::DemSums> s0 = engine->sceneSums();
     for (std::size_t k = 0; k < k_count; ++k) members[k].sums0 = s0[k];
   }
 
   const bool write = spec.run.write_outputs;
+  const double t_end = spec.scenes.front().time.end;
   for (Member& m : members) {
     RunSummary& s = m.summary;
     s.backend = engine->backendName();
     s.precision = engine->precisionName();
     s.threads = s.backend == std::string("omp") ? omp_get_max_threads() : 1;
-    s.dt = dt;
+    s.dt = m.dt;
     s.particles = static_cast<std::size_t>(m.hi - m.lo);
     s.charge_mass_kg = m.charge.total_mass;
     s.omega_rad_s = std::abs(m.motion->fullOmega());
     const scene::Scene& sc = *m.scene;
-    m.frame_dt = (sc.time.end - sc.angle.start_time) / std::max(1, sc.angle.frames);
+    m.frame_dt = (t_end - sc.angle.start_time) / std::max(1, sc.angle.frames);
     m.next_frame = sc.angle.start_time + m.frame_dt;
     m.steady_start = sc.angle.enabled ? sc.angle.start_time : sc.drum.start_time + sc.drum.spin_up;
     if (write) {
@@ -177,6 +178,8 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
     }
   }
 
+  const std::vector<std::string> stages{"ensemble", "neighbour_build",  "dem_kick_drift", "dem_contacts_and_walls",
+                                        "dem_kick", "front_view_frames"};
   // A ball outside its drum has left its slab too: the ensemble stops, naming the case.
   dem::BallKinematics balls;
   auto captureFrame = [&](Member& m) {
@@ -188,78 +191,97 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
     }
     m.angle->addFrame(cx, cy, r);
   };
-
-  const double t_end = spec.scenes.front().time.end;
-  ProgressLine progress(spec.run.progress, t_end);
   const auto wall0 = std::chrono::steady_clock::now();
-  const double eps = 1e-12 * t_end;
-  try {
-    while (true) {
-      bool want_sums = false, want_frame = false;
-      for (const Member& m : members) {
-        want_sums = want_sums || t >= m.next_series - eps;
-        want_frame =
-            want_frame || (m.angle && t >= m.next_frame - 0.5 * dt && m.angle->frames() < m.scene->angle.frames);
-      }
-      if (want_sums || want_frame) engine->ballKinematics(balls);
-      if (want_sums) {
-        const std::vector<dem::DemSums> now = engine->sceneSums();
-        for (std::size_t k = 0; k < k_count; ++k) {
-          Member& m = members[k];
-          if (t < m.next_series - eps) continue;
-          checkBallsInDrum(balls.pos, m.lo, m.hi, m.z0, *m.scene, m.charge, t, m.scene->source + ": ");
-          fillDrumEnergy(m.summary, now[k], m.sums0);
-          if (m.series) m.series->row(drumSeriesRow(t, now[k], m.motion->at(t, m.phi), m.summary.energy_residual));
-          if (m.steady_t0 < 0 && t >= m.steady_start) {
-            m.steady_t0 = t;
-            m.steady_work0 = now[k].work_in;
-          }
-          m.next_series += m.scene->output.series_every;
-        }
-      }
-      for (Member& m : members) {
-        if (m.angle && t >= m.next_frame - 0.5 * dt && m.angle->frames() < m.scene->angle.frames) {
-          captureFrame(m);
-          m.next_frame += m.frame_dt;
-        }
-      }
-      if (t >= t_end - 0.5 * dt) break;
-      for (Member& m : members) m.phi += m.motion->omega(t + dt) * dt;
-      engine->step(drumStates(t + dt), dt);
-      t += dt;
-      ++step;
-      progress.update(t, step);
-    }
-  } catch (const core::SimulationError& e) {
-    progress.finish();
-    for (Member& m : members) {
-      const fs::path summary_json = m.out / "summary.json";
-      recordFailedRun(m.summary, e.what(), t, step, wall0, write ? &summary_json : nullptr, engine->memoryBytes(),
-                      m.scene->name, m.scene->source);
-    }
-    throw;
-  }
-  progress.finish();
-
-  const std::vector<dem::DemSums> end = engine->sceneSums();
-  const std::vector<std::string> stages{"ensemble", "neighbour_build",  "dem_kick_drift", "dem_contacts_and_walls",
-                                        "dem_kick", "front_view_frames"};
-  std::vector<RunSummary> out;
-  for (std::size_t k = 0; k < k_count; ++k) {
-    Member& m = members[k];
+  // A case at its end: its summary from its sums now (power over its steady window, angle from
+  // its frames), its summary.json written; from now on it rests (dt 0).
+  auto finish = [&](Member& m, const dem::DemSums& now) {
     RunSummary& s = m.summary;
-    markRunEnd(s, "ok", t, step, wall0);
+    markRunEnd(s, "ok", m.t, m.steps, wall0);
     s.neighbour_rebuilds = engine->neighbourRebuilds();
-    fillDrumEnergy(s, end[k], m.sums0);
-    if (m.steady_t0 >= 0 && t > m.steady_t0) {
-      s.power_W = (end[k].work_in - m.steady_work0) / (t - m.steady_t0);
+    fillDrumEnergy(s, now, m.sums0);
+    if (m.steady_t0 >= 0 && m.t > m.steady_t0) {
+      s.power_W = (now.work_in - m.steady_work0) / (m.t - m.steady_t0);
       s.torque_Nm = s.omega_rad_s > 0 ? s.power_W / s.omega_rad_s : 0;
     }
     if (m.angle) finishDrumAngle(*m.angle, s, m.out, write);
     if (write)
       writeSummaryJson(m.out / "summary.json", s, stages, engine->memoryBytes(), m.scene->name, m.scene->source);
-    out.push_back(s);
+    m.done = true;
+  };
+
+  ProgressLine progress(spec.run.progress, t_end);
+  long long ticks = 0;
+  try {
+    while (true) {
+      // What the cases that are still running want at their own time now.
+      bool want_sums = false, want_frame = false;
+      for (const Member& m : members) {
+        if (m.done) continue;
+        const bool ending = m.t >= t_end - 0.5 * m.dt;
+        want_sums = want_sums || ending || m.t >= m.next_series - 1e-12 * t_end;
+        want_frame =
+            want_frame || (m.angle && m.t >= m.next_frame - 0.5 * m.dt && m.angle->frames() < m.scene->angle.frames);
+      }
+      if (want_sums || want_frame) engine->ballKinematics(balls);
+      std::vector<dem::DemSums> now;
+      if (want_sums) now = engine->sceneSums();
+      for (std::size_t k = 0; k < k_count; ++k) {
+        Member& m = members[k];
+        if (m.done) continue;
+        if (m.t >= m.next_series - 1e-12 * t_end) {
+          checkBallsInDrum(balls.pos, m.lo, m.hi, m.z0, *m.scene, m.charge, m.t, m.scene->source + ": ");
+          fillDrumEnergy(m.summary, now[k], m.sums0);
+          if (m.series) m.series->row(drumSeriesRow(m.t, now[k], m.motion->at(m.t, m.phi), m.summary.energy_residual));
+          if (m.steady_t0 < 0 && m.t >= m.steady_start) {
+            m.steady_t0 = m.t;
+            m.steady_work0 = now[k].work_in;
+          }
+          m.next_series += m.scene->output.series_every;
+        }
+        if (m.angle && m.t >= m.next_frame - 0.5 * m.dt && m.angle->frames() < m.scene->angle.frames) {
+          captureFrame(m);
+          m.next_frame += m.frame_dt;
+        }
+        if (m.t >= t_end - 0.5 * m.dt) finish(m, now[k]);
+      }
+      // One step of every running case, each by its own dt; ended cases rest.
+      double slowest = t_end;
+      bool running = false;
+      for (std::size_t k = 0; k < k_count; ++k) {
+        Member& m = members[k];
+        if (m.done) {
+          steps[k] = 0;
+          drums[k] = m.motion->at(m.t, m.phi);
+          continue;
+        }
+        running = true;
+        m.phi += m.motion->omega(m.t + m.dt) * m.dt;
+        drums[k] = m.motion->at(m.t + m.dt, m.phi);
+        steps[k] = m.dt;
+      }
+      if (!running) break;
+      engine->step(drums, steps);
+      for (Member& m : members) {
+        if (m.done) continue;
+        m.t += m.dt;
+        ++m.steps;
+        slowest = std::min(slowest, m.t);
+      }
+      progress.update(slowest, ++ticks);
+    }
+  } catch (const core::SimulationError& e) {
+    progress.finish();
+    for (Member& m : members) {
+      if (m.done) continue;
+      const fs::path summary_json = m.out / "summary.json";
+      recordFailedRun(m.summary, e.what(), m.t, m.steps, wall0, write ? &summary_json : nullptr, engine->memoryBytes(),
+                      m.scene->name, m.scene->source);
+    }
+    throw;
   }
+  progress.finish();
+  std::vector<RunSummary> out;
+  for (const Member& m : members) out.push_back(m.summary);
   return out;
 }
 

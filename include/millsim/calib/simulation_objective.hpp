@@ -22,8 +22,8 @@ struct SimulationObjectiveConfig {
   sim::RunOptions run;                  // backend, precision, threads (write_outputs forced false)
   std::string runs_dir;                 // where the per-run JSON goes; empty: none
   // Every run of a batch (candidates x diameters) in one DEM solver (sim::runEnsemble): on a
-  // GPU the batch is one launch per stage instead of one run at a time. The runs then share
-  // the smallest time step of the diameters, an unstable run fails its whole batch, and each
+  // GPU the batch is one launch per stage instead of one run at a time. Each run keeps its own
+  // time step (the same runs as alone), an unstable run fails its whole batch, and each
   // evaluation's wall_s is its share of the batch's wall time.
   bool ensemble = false;
 };

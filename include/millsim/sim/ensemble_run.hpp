@@ -8,8 +8,10 @@
 // piston), its charge (fill, ball sizes, seed), its restitution and friction, its front view,
 // series and output schedule. What one solver holds once must be the same in every case:
 // Young's modulus and Poisson ratio, the damping model, the tangential law and its smoothing,
-// gravity, the ball representation (spheres), time.end and the precision. The time step is the
-// smallest the cases ask for; the summaries give it.
+// gravity, the ball representation (spheres), time.end and the precision. Each case steps by
+// its own time step (its own contact time), all in the same launches: a case with larger balls
+// takes fewer steps and, once at its end, rests (its forces are no longer evaluated), so an
+// ensemble does the work its runs would do alone.
 //
 // Each case's summary is what it would have been alone (angle of repose, power, energy budget
 // over its own balls and drum), except the wall time, which is the ensemble's.

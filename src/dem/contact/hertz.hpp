@@ -82,7 +82,7 @@ template <class T, FrictionSmoothing kSmoothing = FrictionSmoothing::kNone>
 struct HertzMindlin {
   HertzParams<T> p;
 
-  MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
+  MILLSIM_HD MILLSIM_FORCE_INLINE ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
                                          core::Vec3<T>& xi, T dt) const {
     using core::Vec3;
     const T vn = core::dot(v_rel, n);
@@ -140,7 +140,7 @@ template <class T>
 struct HertzDualSphysicsTangential {
   HertzParams<T> p;
 
-  MILLSIM_HD ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
+  MILLSIM_HD MILLSIM_FORCE_INLINE ContactResult<T> operator()(core::Vec3<T> n, T delta, T r_star, T m_star, core::Vec3<T> v_rel,
                                          core::Vec3<T>& xi, T dt) const {
     using core::Vec3;
     const PairStiffness<T> k = hertzStiffness(p, r_star, m_star);
