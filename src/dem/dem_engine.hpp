@@ -144,7 +144,9 @@ class DemEngine {
   // frame: x and y as the scene's own, z shifted by its slab).
   virtual void initialize(const std::vector<DrumState>& drums) = 0;
   virtual void step(const std::vector<DrumState>& drums, const std::vector<double>& dt) = 0;
-  virtual std::vector<DemSums> sceneSums() const = 0;
+  // `wanted` (one flag per scene; empty: all) limits the work to the scenes asked for (each
+  // scene's sums are ~11 reductions over every particle); the others come back zero.
+  virtual std::vector<DemSums> sceneSums(const std::vector<bool>& wanted = {}) const = 0;
   // Per bead, in host numbering: tallies (collision_stats.hpp).
   virtual void collisionTallies(std::vector<CollisionTally>& out) const = 0;
 };

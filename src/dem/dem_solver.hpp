@@ -487,10 +487,14 @@ class DemSolver final : public DemEngine {
     return s;
   }
 
-  std::vector<DemSums> sceneSums() const override {
+  std::vector<DemSums> sceneSums(const std::vector<bool>& wanted) const override {
     std::vector<DemSums> out;
     const std::vector<int>& start = m_setup.ensemble.start;
     for (int k = 0; k < m_setup.ensemble.scenes(); ++k) {
+      if (!wanted.empty() && !wanted.at(static_cast<std::size_t>(k))) {
+        out.emplace_back();
+        continue;
+      }
       const int lo = start[k], hi = start[k + 1];
       out.push_back(sumsOver([&](const auto& f) { return HostRange<std::decay_t<decltype(f)>>{f, m_id.data(), lo, hi}; }));
     }

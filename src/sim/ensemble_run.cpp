@@ -211,20 +211,22 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
 
   ProgressLine progress(spec.run.progress, t_end);
   long long ticks = 0;
+  std::vector<bool> sums_wanted(k_count, false);
   try {
     while (true) {
       // What the cases that are still running want at their own time now.
       bool want_sums = false, want_frame = false;
-      for (const Member& m : members) {
+      for (std::size_t k = 0; k < k_count; ++k) {
+        const Member& m = members[k];
+        sums_wanted[k] = !m.done && (m.t >= t_end - 0.5 * m.dt || m.t >= m.next_series - 1e-12 * t_end);
+        want_sums = want_sums || sums_wanted[k];
         if (m.done) continue;
-        const bool ending = m.t >= t_end - 0.5 * m.dt;
-        want_sums = want_sums || ending || m.t >= m.next_series - 1e-12 * t_end;
         want_frame =
             want_frame || (m.angle && m.t >= m.next_frame - 0.5 * m.dt && m.angle->frames() < m.scene->angle.frames);
       }
       if (want_sums || want_frame) engine->ballKinematics(balls);
       std::vector<dem::DemSums> now;
-      if (want_sums) now = engine->sceneSums();
+      if (want_sums) now = engine->sceneSums(sums_wanted);
       for (std::size_t k = 0; k < k_count; ++k) {
         Member& m = members[k];
         if (m.done) continue;
