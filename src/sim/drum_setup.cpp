@@ -28,13 +28,18 @@ double drumTimeStep(const scene::Scene& scene, const ChargeSetup& charge) {
   return tc / scene.time.dt_divisor;
 }
 
-dem::DemSetup drumDemSetup(const scene::Scene& scene, const ChargeSetup& charge) {
+dem::DemSetup demContactSetup(const scene::Scene& scene) {
   dem::DemSetup setup;
   const auto model = dem::dampingModelFromName(scene.dem.damping);
   setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
   setup.alpha = dem::dampingAlpha(model, scene.dem.restitution);
   setup.wall_mass_factor = dem::wallMassFactor(model);
   setup.friction = scene.dem.friction;
+  return setup;
+}
+
+dem::DemSetup drumDemSetup(const scene::Scene& scene, const ChargeSetup& charge) {
+  dem::DemSetup setup = demContactSetup(scene);
   setup.tanh_smoothing = scene.dem.friction_smoothing == "tanh";
   setup.dualsphysics_tangential = scene.dem.tangential == "dualsphysics";
   setup.gravity = scene.gravity;

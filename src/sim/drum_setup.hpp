@@ -16,6 +16,9 @@
 
 namespace millsim::sim {
 
+// The contact law's part of a DEM setup from <dem> (stiffness, damping for the restitution,
+// friction), shared by the drum and the stirred mill.
+dem::DemSetup demContactSetup(const scene::Scene& scene);
 // dt: the fixed one, or the shortest Hertz contact time / dt_divisor.
 double drumTimeStep(const scene::Scene& scene, const ChargeSetup& charge);
 // The DEM setup of the case, its domain around the generation drum.

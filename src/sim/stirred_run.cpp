@@ -23,6 +23,7 @@
 #include "dem/walls/stirrer_walls.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
+#include "sim/drum_setup.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
 #include "sim/engine_factory.hpp"
@@ -217,12 +218,7 @@ struct StirredRun::Impl {
   }
 
   std::unique_ptr<dem::DemEngine> makeEngine() const {
-    dem::DemSetup setup;
-    const auto model = dem::dampingModelFromName(scene.dem.damping);
-    setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(scene.dem.youngs_modulus, scene.dem.poisson);
-    setup.alpha = dem::dampingAlpha(model, scene.dem.restitution);
-    setup.wall_mass_factor = dem::wallMassFactor(model);
-    setup.friction = scene.dem.friction;
+    dem::DemSetup setup = demContactSetup(scene);
     setup.linear_law = scene.dem.law == "linear";
     setup.linear_kn = scene.dem.linear_stiffness;
     setup.linear_zeta = dem::linearDampingRatio(scene.dem.restitution);
