@@ -57,7 +57,7 @@ SimulationObjective::SimulationObjective(SimulationObjectiveConfig config) : m_c
                              s.element_lines.count("angle_of_repose") ? s.element_lines.at("angle_of_repose") : 0,
                              "calibrate needs the angle of repose: <angle_of_repose enabled=\"true\">");
   }
-  if (m_config.ensemble) sim::checkEnsembleCases(scenes);
+  if (m_config.ensemble) sim::checkEnsembleCases(scenes, m_config.run);
   m_config.run.write_outputs = false;
   m_config.run.progress = false;
   if (!m_config.runs_dir.empty()) std::filesystem::create_directories(m_config.runs_dir);
@@ -151,14 +151,13 @@ std::vector<Evaluation> SimulationObjective::evaluateAll(const std::vector<Candi
       spec.scenes.push_back(sceneFor(i, c));
       spec.out_dirs.push_back("");
     }
-  std::vector<sim::RunSummary> runs(spec.scenes.size());
+  std::vector<sim::RunSummary> runs;
   try {
-    runs = sim::runEnsemble(spec);
-  } catch (const core::SimulationError& err) {
-    for (sim::RunSummary& r : runs) {
-      r.status = "failed";
-      r.error = std::string("the ensemble of this batch went unstable: ") + err.what();
-    }
+    runs = sim::runEnsemble(spec);  // a ball out of its drum fails its run alone
+  } catch (const core::SimulationError&) {
+    // The shared solver diverged: every candidate alone, so each gets its own outcome (and a
+    // stable one is not journalled as failed because another was not).
+    return Objective::evaluateAll(cs);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::vector<Evaluation> out;

@@ -107,7 +107,6 @@ struct Copy {
   MILLSIM_HD void operator()(int i) const { dst[i] = src[i]; }
 };
 
-
 template <class Space, class T>
 class DemSolver final : public DemEngine {
  public:
@@ -205,10 +204,10 @@ class DemSolver final : public DemEngine {
     const int ne = b.elements();
     bool ordered = !b.start.empty() && b.start[0] == 0;
     for (int k = 0; ordered && k < m_nb; ++k) ordered = b.start[k] < b.start[k + 1];
-    if (!ordered || static_cast<int>(b.start.size()) != m_nb + 1 || ne > m_n || b.offset.size() != 3 * std::size_t(ne) ||
-        b.pos.size() != 3 * std::size_t(m_nb) || b.vel.size() != b.pos.size() || b.ang_mom.size() != b.pos.size() ||
-        b.quat.size() != 4 * std::size_t(m_nb) || b.inertia.size() != 6 * std::size_t(m_nb) ||
-        b.radius.size() != std::size_t(m_nb))
+    if (!ordered || static_cast<int>(b.start.size()) != m_nb + 1 || ne > m_n ||
+        b.offset.size() != 3 * std::size_t(ne) || b.pos.size() != 3 * std::size_t(m_nb) ||
+        b.vel.size() != b.pos.size() || b.ang_mom.size() != b.pos.size() || b.quat.size() != 4 * std::size_t(m_nb) ||
+        b.inertia.size() != 6 * std::size_t(m_nb) || b.radius.size() != std::size_t(m_nb))
       throw std::invalid_argument("DemSolver::setBodies: inconsistent body arrays");
     std::vector<Vec3<T>> pos(m_nb), vel(m_nb), L(m_nb), omega(m_nb), offset(ne);
     std::vector<Quat<T>> q(m_nb);
@@ -355,8 +354,10 @@ class DemSolver final : public DemEngine {
         const Vec3<T> xi = pair_xi[slot];
         if (xi.x == T(0) && xi.y == T(0) && xi.z == T(0)) continue;
         const int a = id[i], b = id[list[slot]];
-        if (a < b) record(a, b, xi);
-        else record(b, a, -xi);
+        if (a < b)
+          record(a, b, xi);
+        else
+          record(b, a, -xi);
       }
     }
   }
@@ -364,7 +365,10 @@ class DemSolver final : public DemEngine {
   // The forces of the given state, for the first half-kick. The springs are left as given: a
   // force evaluation with dt = 0 still moves a sliding contact's spring (onto -F_t/k_t with the
   // damping included), and a restart must continue from the checkpoint's springs.
-  void initialize(const DrumState& walls) override { initializeDrum(walls); }
+  void initialize(const DrumState& walls) override {
+    requireSingleScene();
+    initializeDrum(walls);
+  }
   void initialize(const std::vector<DrumState>& drums) override { initializeDrum(drums); }
 
   template <class Drums>
@@ -428,17 +432,22 @@ class DemSolver final : public DemEngine {
     for (std::size_t i = 0; i < t.size(); ++i) out[static_cast<std::size_t>(id[i])] = t[i];
   }
 
-  void step(const DrumState& walls, double dt_in) override { stepWith(walls, T(dt_in), dt_in); }
+  void step(const DrumState& walls, double dt_in) override {
+    requireSingleScene();
+    stepWith(walls, T(dt_in), dt_in);
+  }
   // Each case by its own step (0: a case that has ended rests).
   void step(const std::vector<DrumState>& drums, const std::vector<double>& dt) override {
     if (!ensemble() || dt.size() != drums.size() || static_cast<int>(dt.size()) != m_slabs.count)
       throw std::invalid_argument("DemSolver: one drum state and one time step per ensemble scene expected");
     double largest = 0;
+    bool changed = false;
     for (std::size_t k = 0; k < dt.size(); ++k) {
+      changed = changed || m_host_dt[k] != T(dt[k]);
       m_host_dt[k] = T(dt[k]);
       largest = std::max(largest, dt[k]);
     }
-    m_scene_dt.copyFromHost(m_host_dt);
+    if (changed) m_scene_dt.copyFromHost(m_host_dt);  // only when a case starts or ends
     stepWith(drums, SceneTable<T>{m_scene_dt.data(), m_slabs}, largest);
   }
 
@@ -496,34 +505,38 @@ class DemSolver final : public DemEngine {
         continue;
       }
       const int lo = start[k], hi = start[k + 1];
-      out.push_back(sumsOver([&](const auto& f) { return HostRange<std::decay_t<decltype(f)>>{f, m_id.data(), lo, hi}; }));
+      out.push_back(sumsOver([&](const auto& f) {
+        return HostRange<std::decay_t<decltype(f)>>{f, m_id.data(), lo, hi};
+      }));
     }
     return out;
   }
 
   std::map<std::string, std::size_t> memoryBytes() const override {
-    return {{"dem.particles", m_pos.bytes() + m_vel.bytes() + m_omega.bytes() + m_force.bytes() + m_torque.bytes() +
-                                  m_radius.bytes() + m_mass.bytes() + m_inv_mass.bytes() + m_inv_inertia.bytes() +
-                                  m_id.bytes()},
-            {"dem.contact_history", m_pair_xi.bytes() + m_wall_key.bytes() + m_wall_xi.bytes() + m_overflow.bytes() +
-                                        m_old_xi.bytes()},
-            {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes() +
-                                          m_fixed_torque.bytes() + m_work_external.bytes()},
-            {"dem.external_loads", m_ext_force.bytes() + m_ext_torque.bytes() + m_ext_force_old.bytes() +
-                                       m_ext_torque_old.bytes()},
-            {"dem.partner_scatter", m_scatter.bytes()},
-            {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_real.bytes() + m_scratch_double.bytes() +
-                                        m_scratch_vec.bytes() + m_old_of_new.bytes()},
-            {"dem.collision_stats", m_tally.bytes() + m_scratch_tally.bytes()},
-            {"dem.bodies", m_body_pos.bytes() + m_body_vel.bytes() + m_body_L.bytes() + m_body_omega.bytes() +
-                               m_body_q.bytes() + m_body_force.bytes() + m_body_torque.bytes() + m_body_inv_mass.bytes() +
-                               m_body_inv_inertia.bytes() + m_body_start.bytes() + m_elem_offset.bytes() +
-                               m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() + m_scratch_int2.bytes() +
-                               m_body_ext_force.bytes() + m_body_ext_torque.bytes() + m_body_work_ext.bytes()},
-            {"dem.lubrication", m_lub_dissipated.bytes()},
-            {"dem.ensemble", m_scene_params.bytes() + m_scene_drums.bytes() + m_scene_dt.bytes() + m_scene_skin.bytes()},
-            {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() + m_old_start.bytes() +
-                              m_old_list.bytes() + m_pos_ref.bytes()}};
+    return {
+        {"dem.particles", m_pos.bytes() + m_vel.bytes() + m_omega.bytes() + m_force.bytes() + m_torque.bytes() +
+                              m_radius.bytes() + m_mass.bytes() + m_inv_mass.bytes() + m_inv_inertia.bytes() +
+                              m_id.bytes()},
+        {"dem.contact_history",
+         m_pair_xi.bytes() + m_wall_key.bytes() + m_wall_xi.bytes() + m_overflow.bytes() + m_old_xi.bytes()},
+        {"dem.energy_accounting", m_dissipated.bytes() + m_work_in.bytes() + m_elastic.bytes() + m_drum_torque.bytes() +
+                                      m_fixed_torque.bytes() + m_work_external.bytes()},
+        {"dem.external_loads",
+         m_ext_force.bytes() + m_ext_torque.bytes() + m_ext_force_old.bytes() + m_ext_torque_old.bytes()},
+        {"dem.partner_scatter", m_scatter.bytes()},
+        {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_real.bytes() + m_scratch_double.bytes() +
+                                    m_scratch_vec.bytes() + m_old_of_new.bytes()},
+        {"dem.collision_stats", m_tally.bytes() + m_scratch_tally.bytes()},
+        {"dem.bodies", m_body_pos.bytes() + m_body_vel.bytes() + m_body_L.bytes() + m_body_omega.bytes() +
+                           m_body_q.bytes() + m_body_force.bytes() + m_body_torque.bytes() + m_body_inv_mass.bytes() +
+                           m_body_inv_inertia.bytes() + m_body_start.bytes() + m_elem_offset.bytes() +
+                           m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() +
+                           m_scratch_int2.bytes() + m_body_ext_force.bytes() + m_body_ext_torque.bytes() +
+                           m_body_work_ext.bytes()},
+        {"dem.lubrication", m_lub_dissipated.bytes()},
+        {"dem.ensemble", m_scene_params.bytes() + m_scene_drums.bytes() + m_scene_dt.bytes() + m_scene_skin.bytes()},
+        {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() +
+                          m_old_start.bytes() + m_old_list.bytes() + m_pos_ref.bytes()}};
   }
 
   std::int64_t neighbourRebuilds() const override { return m_rebuilds; }
@@ -597,20 +610,35 @@ class DemSolver final : public DemEngine {
     m_pos_ref.copyToHost(ref);
     m_vel.copyToHost(vel);
     m_id.copyToHost(id);
+    // The particle that moved farthest since the list was built (a non-finite one first): the
+    // one stepWith's test (plain, or scaled by an ensemble case's skin) tripped on.
     std::size_t bad = 0;
-    while (bad + 1 < pos.size() && core::norm2(pos[bad] - ref[bad]) < T(1e29)) ++bad;  // stepWith's test
+    T worst = T(-1);
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      const T d2 = core::norm2(pos[i] - ref[i]);
+      const T key = d2 == d2 && d2 <= std::numeric_limits<T>::max() ? d2 : std::numeric_limits<T>::infinity();
+      if (key > worst) {
+        worst = key;
+        bad = i;
+      }
+    }
     std::ostringstream m;
     const int host = id.empty() ? 0 : id[bad];
     m << "DEM: particle " << host;
+    if (ensemble()) {  // which case, and its own ball number
+      const std::vector<int>& start = m_setup.ensemble.start;
+      const auto k = std::upper_bound(start.begin(), start.end(), host) - start.begin() - 1;
+      m << " (case " << k << " of the ensemble, its ball " << host - start[static_cast<std::size_t>(k)] << ")";
+    }
     if (m_nb > 0) {
       std::vector<int> body_of;
       m_body_of.copyToHost(body_of);
       if (body_of[bad] >= 0) m << " (element of DCDEM body " << body_of[bad] << ")";
     }
-    m << " diverged at solver step " << m_steps
-      << ": position (" << pos[bad].x << ", " << pos[bad].y << ", " << pos[bad].z << ") m, at the last neighbour "
-      << "build (" << ref[bad].x << ", " << ref[bad].y << ", " << ref[bad].z << ") m, velocity (" << vel[bad].x
-      << ", " << vel[bad].y << ", " << vel[bad].z << ") m/s. Likely cause: dt = " << double(dt)
+    m << " diverged at solver step " << m_steps << ": position (" << pos[bad].x << ", " << pos[bad].y << ", "
+      << pos[bad].z << ") m, at the last neighbour "
+      << "build (" << ref[bad].x << ", " << ref[bad].y << ", " << ref[bad].z << ") m, velocity (" << vel[bad].x << ", "
+      << vel[bad].y << ", " << vel[bad].z << ") m/s. Likely cause: dt = " << double(dt)
       << " s is too large for the stiffest contact or lubrication film (use the automatic time step, or a "
          "larger dt_divisor)";
     return core::SimulationError(m.str());
@@ -622,16 +650,18 @@ class DemSolver final : public DemEngine {
   }
 
   ParticleView<T> view() {
-    return {m_pos.data(),    m_vel.data(),  m_omega.data(),    m_force.data(),      m_torque.data(),
-            m_radius.data(), m_mass.data(), m_inv_mass.data(), m_inv_inertia.data(),
-            m_nb > 0 ? m_contact_mass.data() : m_mass.data()};
+    return {m_pos.data(),         m_vel.data(),
+            m_omega.data(),       m_force.data(),
+            m_torque.data(),      m_radius.data(),
+            m_mass.data(),        m_inv_mass.data(),
+            m_inv_inertia.data(), m_nb > 0 ? m_contact_mass.data() : m_mass.data()};
   }
 
   static Vec3<T> get3(const std::vector<double>& v, int i) { return {T(v[3 * i]), T(v[3 * i + 1]), T(v[3 * i + 2])}; }
 
   BodyView<T> bodyView() {
-    return {m_body_pos.data(),   m_body_vel.data(),      m_body_L.data(),        m_body_omega.data(),
-            m_body_q.data(),     m_body_force.data(),    m_body_torque.data(),   m_body_inv_mass.data(),
+    return {m_body_pos.data(),         m_body_vel.data(),   m_body_L.data(),      m_body_omega.data(),
+            m_body_q.data(),           m_body_force.data(), m_body_torque.data(), m_body_inv_mass.data(),
             m_body_inv_inertia.data(), m_body_start.data()};
   }
 
@@ -789,8 +819,8 @@ class DemSolver final : public DemEngine {
     else
       buildList(T(m_setup.skin));
     const SpringTable<T> old{m_old_start.data(), m_old_list.data(), m_old_xi.data()};
-    backend::parallelFor(Space{}, m_n,
-                         TransferPairSprings<T>{old, old_of_new, m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data()});
+    backend::parallelFor(
+        Space{}, m_n, TransferPairSprings<T>{old, old_of_new, m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data()});
     m_old_is_seed = false;
   }
 
@@ -852,12 +882,16 @@ class DemSolver final : public DemEngine {
       s.com_y = backend::reduceSum<double>(Space{}, m_n, pick(MassMoment<T>{p, 1})) / s.mass;
     }
     if (m_nbr_start.size() == static_cast<std::size_t>(m_n) + 1)
-      s.pair_contacts = backend::reduceSum<double>(
-          Space{}, m_n, pick(PairContactCount<T>{p, m_nbr_start.data(), m_nbr_list.data()}));
+      s.pair_contacts =
+          backend::reduceSum<double>(Space{}, m_n, pick(PairContactCount<T>{p, m_nbr_start.data(), m_nbr_list.data()}));
     return s;
   }
 
   bool ensemble() const { return m_setup.ensemble.scenes() > 0; }
+  // One drum for all would give every case of an ensemble the first case's walls and law.
+  void requireSingleScene() const {
+    if (ensemble()) throw std::invalid_argument("DemSolver: an ensemble steps with one drum state per case");
+  }
 
   // The ensemble's per-scene laws and slabs, checked once. The slabs must be further apart than
   // a neighbour cell, or a pair could be listed across scenes.
@@ -867,8 +901,9 @@ class DemSolver final : public DemEngine {
     bool ordered = e.start[0] == 0;
     for (int q = 0; ordered && q < k; ++q) ordered = e.start[q] <= e.start[q + 1];
     if (!ordered || e.alpha.size() != n || e.friction.size() != n || !(e.pitch > cell))
-      throw std::invalid_argument("DemSolver: inconsistent ensemble (scene ranges, one law per scene, slab pitch "
-                                  "longer than a neighbour cell)");
+      throw std::invalid_argument(
+          "DemSolver: inconsistent ensemble (scene ranges, one law per scene, slab pitch "
+          "longer than a neighbour cell)");
     std::vector<HertzParams<T>> params(n);
     for (std::size_t q = 0; q < n; ++q) params[q] = {m_law.k_coef, T(e.alpha[q]), T(e.friction[q])};
     m_scene_params.copyFromHost(params);
@@ -924,25 +959,25 @@ class DemSolver final : public DemEngine {
     const WallHistory<T> wall_hist{m_wall_key.data(), m_wall_xi.data(), m_overflow.data()};
     m_scatter.run(m_n, targets, [&](auto sink) {
       return ContactForces<T, Law, decltype(sink), Walls, Extra, Dt>{view(),
-                                                                 m_nbr_start.data(),
-                                                                 m_nbr_list.data(),
-                                                                 m_pair_xi.data(),
-                                                                 wall_hist,
-                                                                 m_work_in.data(),
-                                                                 m_elastic.data(),
-                                                                 m_has_external ? m_ext_force.data() : nullptr,
-                                                                 m_ext_torque.data(),
-                                                                 m_id.data(),
-                                                                 m_work_external.data(),
-                                                                 m_drum_torque.data(),
-                                                                 walls,
-                                                                 law,
-                                                                 T(m_setup.wall_mass_factor),
-                                                                 toVec(m_setup.gravity),
-                                                                 dt,
-                                                                 sink,
-                                                                 extra,
-                                                                 fixed_wall_torque};
+                                                                     m_nbr_start.data(),
+                                                                     m_nbr_list.data(),
+                                                                     m_pair_xi.data(),
+                                                                     wall_hist,
+                                                                     m_work_in.data(),
+                                                                     m_elastic.data(),
+                                                                     m_has_external ? m_ext_force.data() : nullptr,
+                                                                     m_ext_torque.data(),
+                                                                     m_id.data(),
+                                                                     m_work_external.data(),
+                                                                     m_drum_torque.data(),
+                                                                     walls,
+                                                                     law,
+                                                                     T(m_setup.wall_mass_factor),
+                                                                     toVec(m_setup.gravity),
+                                                                     dt,
+                                                                     sink,
+                                                                     extra,
+                                                                     fixed_wall_torque};
     });
   }
 
@@ -1055,7 +1090,7 @@ class DemSolver final : public DemEngine {
   SlabLayout<T> m_slabs{};
   int m_n = 0;
   std::int64_t m_rebuilds = 0;
-  std::int64_t m_steps = 0;  // steps since setState (for error messages)
+  std::int64_t m_steps = 0;     // steps since setState (for error messages)
   bool m_sums_cleared = false;  // KickDrift cleared the force sums since the last contact pass
   neighbors::CellList<Space, T> m_cells;
   PartnerScatter<Space, T> m_scatter;
@@ -1089,11 +1124,11 @@ class DemSolver final : public DemEngine {
   backend::Array<Space, Quat<T>> m_body_q;
   backend::Array<Space, Sym3<T>> m_body_inv_inertia;
   backend::Array<Space, T> m_body_inv_mass;
-  backend::Array<Space, int> m_body_start;      // host numbers of body b's elements: [start[b], start[b + 1])
-  backend::Array<Space, Vec3<T>> m_elem_offset;  // body frame, by host number
-  backend::Array<Space, int> m_index_of_host;    // current index of each host number
+  backend::Array<Space, int> m_body_start;               // host numbers of body b's elements: [start[b], start[b + 1])
+  backend::Array<Space, Vec3<T>> m_elem_offset;          // body frame, by host number
+  backend::Array<Space, int> m_index_of_host;            // current index of each host number
   backend::Array<Space, int> m_body_of, m_scratch_int2;  // body of each particle (current index), -1: sphere
-  backend::Array<Space, T> m_contact_mass;       // body mass for elements, own mass for spheres
+  backend::Array<Space, T> m_contact_mass;               // body mass for elements, own mass for spheres
   std::vector<double> m_body_radius, m_body_mass_host, m_body_inertia_host;  // as given to setBodies
   // Loads from outside (the fluid) per body, and their work; only in coupled runs.
   bool m_has_body_external = false;

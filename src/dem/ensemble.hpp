@@ -23,8 +23,11 @@ namespace millsim::dem {
 // has escaped its drum, which the run detects and stops on).
 template <class T>
 MILLSIM_HD int sceneOf(T z, T origin, T inv_pitch, int count) {
-  const int k = static_cast<int>(std::floor((z - origin) * inv_pitch));
-  return k < 0 ? 0 : (k >= count ? count - 1 : k);
+  // Clamped as a real number first: a diverged (huge or NaN) z must not reach the int cast.
+  const T u = (z - origin) * inv_pitch;
+  if (!(u >= T(0))) return 0;
+  if (u >= T(count)) return count - 1;
+  return static_cast<int>(u);
 }
 
 template <class T>

@@ -41,6 +41,7 @@ struct Member {
   std::unique_ptr<SeriesWriter> series;
   double next_series = 0, next_frame = 0, frame_dt = 0, steady_start = 0;
   double steady_t0 = -1, steady_work0 = 0;
+  std::string label;     // "case k (its folder or file)": names it in messages
   double dt = 0, t = 0;  // its own time step and time
   long long steps = 0;
   bool done = false;  // reached time.end: its summary is final, its balls rest
@@ -57,8 +58,12 @@ core::InputError mismatch(const scene::Scene& s, const char* element, const std:
 
 }  // namespace
 
-void checkEnsembleCases(const std::vector<scene::Scene>& scenes) {
+void checkEnsembleCases(const std::vector<scene::Scene>& scenes, const RunOptions& run) {
   if (scenes.empty()) throw core::InputError("ensemble: no cases");
+  if (run.precision != "double")
+    throw core::InputError("ensemble: --precision " + run.precision +
+                           ": an ensemble runs in double (its balls lie up to half the ensemble's length from "
+                           "the origin, where a float resolves ~1e-7 m)");
   const scene::Scene& a = scenes.front();
   for (const scene::Scene& s : scenes) {
     if (!s.effect_dem || s.effect_sph || s.has_stirrer)
@@ -73,6 +78,9 @@ void checkEnsembleCases(const std::vector<scene::Scene>& scenes) {
       throw mismatch(s, "dem", "dem.tangential / dem.friction_smoothing");
     if (s.dem.law != a.dem.law) throw mismatch(s, "dem", "dem.law");
     if (s.gravity != a.gravity) throw mismatch(s, "gravity", "gravity");
+    if (s.gravity[2] != 0)
+      throw core::InputError(s.source, s.element_lines.count("gravity") ? s.element_lines.at("gravity") : 0,
+                             "ensemble: gravity along the drum axis (z) is not supported: the cases lie along z");
     if (s.time.end != a.time.end) throw mismatch(s, "time", "time.end");
   }
 }
@@ -81,7 +89,7 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
   const std::size_t k_count = spec.scenes.size();
   if (k_count == 0) throw core::InputError("ensemble: no cases");
   if (spec.out_dirs.size() != k_count) throw core::InputError("ensemble: one output folder per case is needed");
-  checkEnsembleCases(spec.scenes);
+  checkEnsembleCases(spec.scenes, spec.run);
   if (!spec.run.restart.empty()) throw core::InputError("ensemble: --restart is for single runs");
   if (spec.run.threads > 0) omp_set_num_threads(spec.run.threads);
 
@@ -97,6 +105,7 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
     if (m.scene->angle.enabled)
       m.angle = std::make_unique<vision::FrontViewAngle>(m.scene->drum.diameter, drumAngleOptions(*m.scene));
     m.out = spec.out_dirs[k];
+    m.label = "case " + std::to_string(k) + " (" + (m.out.empty() ? m.scene->source : m.out.string()) + ")";
     const dem::DemSetup own = drumDemSetup(*m.scene, m.charge);
     m.dt = drumTimeStep(*m.scene, m.charge);
     skin = std::max(skin, own.skin);
@@ -231,7 +240,15 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
         Member& m = members[k];
         if (m.done) continue;
         if (m.t >= m.next_series - 1e-12 * t_end) {
-          checkBallsInDrum(balls.pos, m.lo, m.hi, m.z0, *m.scene, m.charge, m.t, m.scene->source + ": ");
+          try {
+            checkBallsInDrum(balls.pos, m.lo, m.hi, m.z0, *m.scene, m.charge, m.t, m.label + ": ");
+          } catch (const core::SimulationError& e) {  // this case fails and rests; the others go on
+            const fs::path summary_json = m.out / "summary.json";
+            recordFailedRun(m.summary, e.what(), m.t, m.steps, wall0, write ? &summary_json : nullptr,
+                            engine->memoryBytes(), m.scene->name, m.scene->source);
+            m.done = true;
+            continue;
+          }
           fillDrumEnergy(m.summary, now[k], m.sums0);
           if (m.series) m.series->row(drumSeriesRow(m.t, now[k], m.motion->at(m.t, m.phi), m.summary.energy_residual));
           if (m.steady_t0 < 0 && m.t >= m.steady_start) {

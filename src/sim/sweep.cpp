@@ -103,6 +103,10 @@ std::vector<SweepRow> runEnsembleRows(const SweepSpec& spec, const std::vector<s
   try {
     const std::vector<RunSummary> summaries = runEnsemble(e);
     for (std::size_t i = 0; i < rows.size(); ++i) fillRow(rows[i], summaries[i]);
+  } catch (const core::SimulationError&) {
+    // The shared solver diverged: every run alone, so each row gets its own outcome.
+    rows.clear();
+    for (const int k : mine) rows.push_back(runOne(spec, settings[k], combos[k], k));
   } catch (const std::exception& err) {
     for (SweepRow& row : rows) failRow(row, std::string("in the ensemble of this rank's runs: ") + err.what());
   }
@@ -166,7 +170,7 @@ std::vector<std::vector<std::string>> sweepSettings(const SweepSpec& spec) {
     all.push_back(std::move(sets));
   }
   // An ensemble's runs must be able to share one solver: a varied stiffness cannot.
-  if (spec.ensemble) checkEnsembleCases(scenes);
+  if (spec.ensemble) checkEnsembleCases(scenes, spec.run);
   return all;
 }
 

@@ -23,7 +23,8 @@ struct SimulationObjectiveConfig {
   std::string runs_dir;                 // where the per-run JSON goes; empty: none
   // Every run of a batch (candidates x diameters) in one DEM solver (sim::runEnsemble): on a
   // GPU the batch is one launch per stage instead of one run at a time. Each run keeps its own
-  // time step (the same runs as alone), an unstable run fails its whole batch, and each
+  // time step (the same runs as alone); a diverged solver step (which stops the shared solver)
+  // makes the batch run again one candidate at a time; each
   // evaluation's wall_s is its share of the batch's wall time.
   bool ensemble = false;
 };

@@ -25,7 +25,7 @@ struct SweepSpec {
   int parallel = 1;               // runs side by side per rank (threads)
   // A rank's runs as one ensemble in one DEM solver (ensemble_run.hpp; balls-only drum cases):
   // each run's folder gets summary.json, series.csv and the angle images, no fields or
-  // checkpoint; an unstable run fails the rank's whole ensemble.
+  // checkpoint; a diverged solver step (which stops the shared solver) runs them again alone.
   bool ensemble = false;
 };
 
