@@ -189,7 +189,7 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
 
   const std::vector<std::string> stages{"ensemble", "neighbour_build",  "dem_kick_drift", "dem_contacts_and_walls",
                                         "dem_kick", "front_view_frames"};
-  // A ball outside its drum has left its slab too: the ensemble stops, naming the case.
+  // The balls' positions for the escape checks and the front views (host order).
   dem::BallKinematics balls;
   auto captureFrame = [&](Member& m) {
     std::vector<double> cx, cy, r;
@@ -242,7 +242,10 @@ std::vector<RunSummary> runEnsemble(const EnsembleSpec& spec) {
         if (m.t >= m.next_series - 1e-12 * t_end) {
           try {
             checkBallsInDrum(balls.pos, m.lo, m.hi, m.z0, *m.scene, m.charge, m.t, m.label + ": ");
-          } catch (const core::SimulationError& e) {  // this case fails and rests; the others go on
+          } catch (const core::SimulationError& e) {
+            // This case fails and rests; the others go on. (Its escaped ball rests with it while
+            // it stays in its slab; one that flew along z past the gap of 2 cells to the next
+            // case in the series interval would join that case: an unstable run's rare worst.)
             const fs::path summary_json = m.out / "summary.json";
             recordFailedRun(m.summary, e.what(), m.t, m.steps, wall0, write ? &summary_json : nullptr,
                             engine->memoryBytes(), m.scene->name, m.scene->source);
