@@ -16,34 +16,21 @@
 #include "millsim/backend/info.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/ensemble_run.hpp"
+#include "support/ensemble_cases.hpp"
 
 using namespace millsim;
 
 namespace {
 
-// The case files of the tree the test runs in (a copied tree on the GPU machine).
-[[maybe_unused]] std::string minimalDrum() {
-  const char* env = std::getenv("MILLSIM_SOURCE_DIR");
-  return std::string(env ? env : MILLSIM_SOURCE_DIR) + "/cases/minimal_drum.xml";
-}
-
-// Each case by its own automatic step (the 12 mm balls of case 1 take 1.2x fewer steps and then
-// rest while the others finish): the per-case step and skin tables and the resting cases run
-// on the device too.
+// Each case by its own automatic step (the 12 mm drum rests while the others finish): the
+// per-case step and skin tables and the resting cases run on the device too.
 [[maybe_unused]] std::vector<sim::RunSummary> runOn(const std::string& backend) {
-  const std::vector<std::string> common{"time.end=0.12", "compaction.duration=0.05", "drum.start_time=0.05",
-                                        "output.fields_every=0", "output.checkpoint_every=0"};
-  std::vector<std::vector<std::string>> sets(3, common);
-  sets[1].insert(sets[1].end(),
-                 {"drum.diameter=0.12", "drum.length=0.05", "charge.seed=2", "charge.count=20", "charge.top_size=0.012",
-                  "charge.min_size=0.012", "dem.restitution=0.6", "dem.friction=0.3"});
-  sets[2].insert(sets[2].end(), {"drum.critical_fraction=0.6", "charge.count=24", "charge.seed=3",
-                                 "drum.lifters.count=3", "dem.restitution=0.2", "dem.friction=0.7"});
+  const auto sets = millsim::testing::ensembleTestDrums();
   sim::EnsembleSpec spec;
   spec.run.backend = backend;
   spec.run.write_outputs = false;
   for (const auto& s : sets) {
-    spec.scenes.push_back(io::loadCaseFile(minimalDrum(), s));
+    spec.scenes.push_back(io::loadCaseFile(millsim::testing::minimalDrumCase(), s));
     spec.out_dirs.push_back("");
   }
   return sim::runEnsemble(spec);

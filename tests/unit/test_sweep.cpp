@@ -28,7 +28,7 @@ SweepSpec smallSweep(const std::string& out) {
 
 // --ensemble: the grid's runs in one DEM solver give each run's row as alone (over a window
 // short enough that the order of the solver's sums has not grown past 1e-6, measured in
-// tests/validation/test_drum_ensemble.cpp), and each run's folder gets its summary and series.
+// tests/support/ensemble_cases.hpp), and each run's folder gets its summary and series.
 TEST(Sweep, AnEnsembleGivesTheRowsOfSeparateRuns) {
   const auto tmp = std::filesystem::temp_directory_path();
   SweepSpec spec = smallSweep((tmp / "millsim_sweep_alone").string());

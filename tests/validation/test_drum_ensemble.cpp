@@ -1,6 +1,6 @@
 // An ensemble (several drum cases in one DEM solver, issue 10) must give each case what it gives
 // alone: the cases sit in separate slabs of one domain with their own drums and contact laws,
-// so with the same time step every ball follows the same equations as in its own run. What
+// so with its own time step every ball follows the same equations as in its own run. What
 // differs is only the order of floating-point sums (the cell order of the particles covers all
 // cases, and the neighbour list is rebuilt when ANY ball has moved half the skin), so the
 // energies agree to round-off grown by the dynamics over the window; a wrong law, wall or
@@ -17,32 +17,14 @@
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/ensemble_run.hpp"
 #include "millsim/sim/simulation.hpp"
+#include "support/ensemble_cases.hpp"
 
 namespace millsim {
 namespace {
 
-const std::string kMinimal = std::string(MILLSIM_SOURCE_DIR) + "/cases/minimal_drum.xml";
-
-// Three different small drums: the case as shipped; a wider, longer drum with larger balls
-// (12 mm: a longer automatic time step), another charge, restitution and friction; a faster
-// drum with more balls and three lifters. Each case steps by its own automatic dt, alone and in
-// the ensemble (the 12 mm case takes 1.2x fewer steps). The window is 0.05 s of compaction (the
-// pistons push the charges in) and 0.07 s of rotation: the energies of two correct runs whose
-// sums differ only in order drift apart exponentially (measured with two ensembles of the same
-// cases in different orders, relative to the work put in: 5e-12 at t = 0.1 s, 4e-8 at 0.15 s,
-// 1e-6 at 0.2 s, 6e-5 at 0.3 s), so a longer window would test the chaos of a granular bed,
-// not the ensemble.
-std::vector<std::vector<std::string>> variants() {
-  const std::vector<std::string> common{"time.end=0.12", "compaction.duration=0.05", "drum.start_time=0.05",
-                                        "output.fields_every=0", "output.checkpoint_every=0"};
-  std::vector<std::vector<std::string>> v(3, common);
-  v[1].insert(v[1].end(),
-              {"drum.diameter=0.12", "drum.length=0.05", "charge.seed=2", "charge.count=20", "charge.top_size=0.012",
-               "charge.min_size=0.012", "dem.restitution=0.6", "dem.friction=0.3"});
-  v[2].insert(v[2].end(), {"drum.critical_fraction=0.6", "charge.count=24", "charge.seed=3", "drum.lifters.count=3",
-                           "dem.restitution=0.2", "dem.friction=0.7"});
-  return v;
-}
+const std::string kMinimal = testing::minimalDrumCase();
+// The three drums, the window and why 1e-6 of the work bounds the difference:
+// tests/support/ensemble_cases.hpp.
 
 sim::RunOptions quietOptions() {
   sim::RunOptions opt;
@@ -56,7 +38,7 @@ TEST(DrumEnsemble, EachCaseMovesAsItDoesAlone) {
   sim::EnsembleSpec spec;
   spec.run = quietOptions();
   std::vector<sim::RunSummary> alone;
-  for (const auto& sets : variants()) {
+  for (const auto& sets : testing::ensembleTestDrums()) {
     const scene::Scene s = io::loadCaseFile(kMinimal, sets);
     sim::Simulation solo(s, quietOptions());
     alone.push_back(solo.run());
