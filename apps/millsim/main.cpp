@@ -8,18 +8,17 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <sstream>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "calibrate_command.hpp"
-#include "mpi_ranks.hpp"
-#include "sweep_command.hpp"
 #include "millsim/backend/info.hpp"
+#include "millsim/backend/simd.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/io/particle_dump.hpp"
@@ -32,6 +31,8 @@
 #include "millsim/vision/png_io.hpp"
 #include "millsim/vision/video_angle.hpp"
 #include "millsim/vision/video_slurry.hpp"
+#include "mpi_ranks.hpp"
+#include "sweep_command.hpp"
 
 namespace {
 
@@ -39,7 +40,8 @@ using millsim::core::InputError;
 using millsim::core::SimulationError;
 
 millsim::scene::Scene loadScene(const std::string& path, const std::vector<std::string>& sets) {
-  if (path.empty()) return millsim::io::loadCaseText(millsim::io::defaultCaseXml(), "<embedded ball_mill_300_balls>", sets);
+  if (path.empty())
+    return millsim::io::loadCaseText(millsim::io::defaultCaseXml(), "<embedded ball_mill_300_balls>", sets);
   return millsim::io::loadCaseFile(path, sets);
 }
 
@@ -54,8 +56,8 @@ int runCommand(const std::string& case_path, const std::vector<std::string>& set
   millsim::sim::Simulation sim(scene, opt);
   std::fprintf(stderr, "millsim: %s: %zu %s, dt = %.3g s%s, backend %s, out %s\n", scene.name.c_str(),
                sim.particleCount(), particleNoun(scene), sim.timeStep(),
-               scene.effect_sph && !scene.effect_dem && scene.time.dt_mode == "auto" ? " (first, CFL)" : "", opt.backend.c_str(),
-               opt.out_dir.c_str());
+               scene.effect_sph && !scene.effect_dem && scene.time.dt_mode == "auto" ? " (first, CFL)" : "",
+               opt.backend.c_str(), opt.out_dir.c_str());
   const auto& s = sim.run();
   nlohmann::ordered_json j;
   j["status"] = s.status;
@@ -117,8 +119,7 @@ millsim::vision::FrameSequence readInput(const VisionArgs& a) {
 void prepareVision(VisionArgs& a) {
   a.angle.detection.expected_radius_px = a.radius_px;
   a.angle.angle.pixels_per_mm = a.angle.view.pixels_per_mm;
-  a.angle.segmentation.mode =
-      a.mode == "dry" ? millsim::vision::ChargeMode::Dry : millsim::vision::ChargeMode::Balls;
+  a.angle.segmentation.mode = a.mode == "dry" ? millsim::vision::ChargeMode::Dry : millsim::vision::ChargeMode::Balls;
   std::filesystem::create_directories(a.out);
 }
 
@@ -175,17 +176,16 @@ int visionSlurryCommand(VisionArgs a) {
                                                 opt.slurry.outlier_sigmas, opt.slurry.confidence);
       m.circle = view.circle();
       const double R = view.innerRadiusMm();
-      m.overlay = millsim::vision::drawSlurryOverlay(seq.frames[seq.frames.size() / 2], m.curve,
-                                                     millsim::vision::millToFrameAffine(view),
-                                                     {R + opt.view.wall_mm, R});
+      m.overlay =
+          millsim::vision::drawSlurryOverlay(seq.frames[seq.frames.size() / 2], m.curve,
+                                             millsim::vision::millToFrameAffine(view), {R + opt.view.wall_mm, R});
     } else {
       m.curve = millsim::vision::fitSlurryCurve(millsim::vision::readSurfacePointsCsv(a.points, nullptr),
                                                 opt.slurry.outlier_sigmas, opt.slurry.confidence);
       const double R = 0.5 * opt.view.diameter_mm - opt.view.wall_mm;
       const int n = static_cast<int>(std::lround(2 * R * opt.view.pixels_per_mm));
       m.overlay = millsim::vision::drawSlurryOverlay(millsim::vision::ImageRgb(n, n, {40, 40, 40}), m.curve,
-                                                     millsim::vision::millToViewAffine(R, opt.view.pixels_per_mm),
-                                                     {R});
+                                                     millsim::vision::millToViewAffine(R, opt.view.pixels_per_mm), {R});
     }
   } else {
     m = millsim::vision::measureVideoSlurry(readInput(a), opt);
@@ -214,7 +214,8 @@ void addVisionInputOptions(CLI::App* cmd, VisionArgs& a) {
   cmd->add_option("--frames", a.frames, "Evenly spaced frames to use (paper: 100)")->capture_default_str();
   cmd->add_option("--diameter-mm", a.angle.view.diameter_mm, "Real diameter of the drum outline (outer rim) [mm]")
       ->capture_default_str();
-  cmd->add_option("--wall-mm", a.angle.view.wall_mm, "Outline to inner drum wall [mm] (paper: 4)")->capture_default_str();
+  cmd->add_option("--wall-mm", a.angle.view.wall_mm, "Outline to inner drum wall [mm] (paper: 4)")
+      ->capture_default_str();
   cmd->add_option("--margin-mm", a.angle.view.margin_mm, "Ring inside the wall left out (lifters) [mm]")
       ->capture_default_str();
   cmd->add_option("--tilt-deg", a.angle.view.tilt_deg, "Camera roll: a level line rises to the right by this [deg]")
@@ -229,8 +230,12 @@ void addVisionInputOptions(CLI::App* cmd, VisionArgs& a) {
 int infoCommand() {
   nlohmann::ordered_json j;
   j["version"] = MILLSIM_VERSION_STRING;
-  j["backends"] = millsim::backend::cudaCompiled() ? nlohmann::json::array({"omp", "cuda"}) : nlohmann::json::array({"omp"});
+  j["backends"] =
+      millsim::backend::cudaCompiled() ? nlohmann::json::array({"omp", "cuda"}) : nlohmann::json::array({"omp"});
   j["omp_max_threads"] = millsim::backend::ompMaxThreads();
+  // The vector width of the DEM pair blocks on this CPU (MILLSIM_SIMD can lower it).
+  j["simd_cpu"] = millsim::backend::simdLevelName(millsim::backend::cpuSimdLevel());
+  j["simd"] = millsim::backend::simdLevelName(millsim::backend::simdLevel());
   j["cuda_compiled"] = millsim::backend::cudaCompiled();
   j["cuda_devices"] = millsim::backend::cudaDevices();
   j["gpu"] = millsim::backend::cudaDeviceName();
@@ -247,8 +252,8 @@ int infoCommand() {
 // them together: Z/a against T = t sqrt(2 g / a).
 int compareDamBreakCommand(const std::vector<std::string>& dirs, double a, double g, const std::string& png,
                            const std::vector<std::string>& labels) {
-  const std::array<std::array<int, 3>, 6> colours{{{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189},
-                                                   {255, 127, 14}, {23, 190, 207}}};
+  const std::array<std::array<int, 3>, 6> colours{
+      {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {255, 127, 14}, {23, 190, 207}}};
   std::vector<millsim::io::PlotSeries> series;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < dirs.size(); ++k) {
@@ -339,7 +344,9 @@ int runMain(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "Run a case (no CASE: the embedded 300 mm balls-only mill)");
   run->add_option("case", case_path, "Case XML file")->check(CLI::ExistingFile);
   run->add_option("--out,-o", opt.out_dir, "Output directory")->capture_default_str();
-  run->add_option("--backend", opt.backend, "Execution backend")->check(CLI::IsMember({"auto", "omp", "cuda"}))->capture_default_str();
+  run->add_option("--backend", opt.backend, "Execution backend")
+      ->check(CLI::IsMember({"auto", "omp", "cuda"}))
+      ->capture_default_str();
   run->add_option("--precision", opt.precision, "Floating point precision of the particle state")
       ->check(CLI::IsMember({"double", "float"}))
       ->capture_default_str();
@@ -357,13 +364,17 @@ int runMain(int argc, char** argv) {
 
   DumpAngleArgs dump_args;
   auto* dump_angle = app.add_subcommand(
-      "angle-from-dumps", "Angle of repose from LAMMPS/LIGGGHTS text dumps (drum axis z, gravity -y), same pipeline as run");
-  dump_angle->add_option("--dumps", dump_args.dumps, "Dump files (dump custom with x y z radius)")->required()->check(CLI::ExistingFile);
+      "angle-from-dumps",
+      "Angle of repose from LAMMPS/LIGGGHTS text dumps (drum axis z, gravity -y), same pipeline as run");
+  dump_angle->add_option("--dumps", dump_args.dumps, "Dump files (dump custom with x y z radius)")
+      ->required()
+      ->check(CLI::ExistingFile);
   dump_angle->add_option("--diameter", dump_args.diameter, "Inner drum diameter [m]")->capture_default_str();
   dump_angle->add_option("--from-timestep", dump_args.start_timestep, "Ignore frames before this timestep");
   dump_angle->add_option("--pixels-per-mm", dump_args.angle.pixels_per_mm, "Image scale")->capture_default_str();
   dump_angle->add_option("--threshold", dump_args.angle.threshold, "Heat-map threshold")->capture_default_str();
-  dump_angle->add_option("--fit-offset-mm", dump_args.angle.fit_offset_mm, "Fit starts this far right of the highest point")
+  dump_angle
+      ->add_option("--fit-offset-mm", dump_args.angle.fit_offset_mm, "Fit starts this far right of the highest point")
       ->capture_default_str();
   dump_angle->add_option("--out", dump_args.out, "Write heatmap.png, angle_overlay.png, angle_edge.csv here");
   auto* compare_db = app.add_subcommand(
@@ -377,8 +388,8 @@ int runMain(int argc, char** argv) {
   compare_db->add_option("--png", db_png, "Write the plot of Z/a against T here");
   compare_db->add_option("--labels", db_labels, "Legend label of each run")->delimiter(',');
   auto* study = app.add_subcommand("study", "Studies of the solvers");
-  auto* study_accuracy =
-      study->add_subcommand("accuracy", "What accuracy costs in time: error and wall time over settings (CSV, Pareto PNGs)");
+  auto* study_accuracy = study->add_subcommand(
+      "accuracy", "What accuracy costs in time: error and wall time over settings (CSV, Pareto PNGs)");
   bool study_quick = false;
   std::string study_out = "study", study_source = MILLSIM_SOURCE_DIR;
   study_accuracy->add_flag("--quick", study_quick, "Cheapest levels of each axis (a smoke test)");
@@ -400,19 +411,23 @@ int runMain(int argc, char** argv) {
   vision->require_subcommand(1);
   VisionArgs angle_args, slurry_args;
   auto* vision_angle = vision->add_subcommand(
-      "angle", "Dynamic angle of repose: prints JSON, writes OUT/overlay.png, heatmap.png, heatmap_overlay.png, "
-               "angle_edge.csv");
+      "angle",
+      "Dynamic angle of repose: prints JSON, writes OUT/overlay.png, heatmap.png, heatmap_overlay.png, "
+      "angle_edge.csv");
   addVisionInputOptions(vision_angle, angle_args);
   vision_angle->add_option("--mode", angle_args.mode, "balls (local contrast) or dry (two-class intensity threshold)")
       ->check(CLI::IsMember({"balls", "dry"}))
       ->capture_default_str();
-  vision_angle->add_option("--threshold", angle_args.angle.angle.threshold, "Heat-map threshold")->capture_default_str();
-  vision_angle->add_option("--fit-offset-mm", angle_args.angle.angle.fit_offset_mm,
-                           "Fit starts this far right of the highest point")
+  vision_angle->add_option("--threshold", angle_args.angle.angle.threshold, "Heat-map threshold")
+      ->capture_default_str();
+  vision_angle
+      ->add_option("--fit-offset-mm", angle_args.angle.angle.fit_offset_mm,
+                   "Fit starts this far right of the highest point")
       ->capture_default_str();
   auto* vision_slurry = vision->add_subcommand(
-      "slurry", "Slurry surface: quadratic fit with 95% band; writes OUT/slurry_curve.csv, slurry_points.csv, "
-                "slurry_overlay.png");
+      "slurry",
+      "Slurry surface: quadratic fit with 95% band; writes OUT/slurry_curve.csv, slurry_points.csv, "
+      "slurry_overlay.png");
   addVisionInputOptions(vision_slurry, slurry_args);
   vision_slurry->add_option("--points", slurry_args.points,
                             "Picked points CSV (header x_mm,y_mm or x_px,y_px; optional frame column)");
@@ -445,8 +460,8 @@ int runMain(int argc, char** argv) {
       millsim::sim::RunOptions check;
       check.write_outputs = false;
       millsim::sim::Simulation sim(scene, check);
-      std::cout << case_path << ": ok (" << scene.name << ", " << sim.particleCount()
-                << " " << particleNoun(scene) << ", dt = " << sim.timeStep() << " s)" << std::endl;
+      std::cout << case_path << ": ok (" << scene.name << ", " << sim.particleCount() << " " << particleNoun(scene)
+                << ", dt = " << sim.timeStep() << " s)" << std::endl;
       return 0;
     }
     if (info->parsed()) return infoCommand();
@@ -468,7 +483,10 @@ int runMain(int argc, char** argv) {
       millsim::sim::writeAccuracyStudy(rows, study_out);
       nlohmann::ordered_json j = nlohmann::ordered_json::array();
       for (const auto& r : rows)
-        j.push_back({{"problem", r.problem}, {"axis", r.axis}, {"setting", r.setting}, {"error", r.error},
+        j.push_back({{"problem", r.problem},
+                     {"axis", r.axis},
+                     {"setting", r.setting},
+                     {"error", r.error},
                      {"wall_s", r.wall_s}});
       std::cout << j.dump(1) << std::endl;
       return 0;

@@ -5,10 +5,12 @@
 // (partner_scatter.hpp) that the backend chooses. Particles are renumbered in cell order at each
 // neighbour rebuild (reorder_kernels.hpp) so a pair's two sides lie close in memory.
 #include <type_traits>
+#include <utility>
 
 #include "dem/contact/hertz.hpp"
 #include "dem/contact/lubrication.hpp"
 #include "dem/ensemble.hpp"
+#include "dem/touching_pair.hpp"
 #include "dem/walls/drum_walls.hpp"
 #include "millsim/core/vec3.hpp"
 #include "millsim/neighbors/cell_grid.hpp"
@@ -132,10 +134,10 @@ struct BuildNeighbourList {
   const Vec3<T>* pos;
   const T* radius;
   Vec3<T>* pos_ref;
-  int* count;        // pass 1 output
-  const int* start;  // pass 2 input
-  int* list;         // pass 2 output (nullptr in pass 1)
-  Skin skin;         // T, or an ensemble's per case (SceneTable)
+  int* count;                    // pass 1 output
+  const int* start;              // pass 2 input
+  int* list;                     // pass 2 output (nullptr in pass 1)
+  Skin skin;                     // T, or an ensemble's per case (SceneTable)
   T range_factor = T(0);         // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
   const int* body_of = nullptr;  // DCDEM: elements of one body (same id >= 0) never pair
   MILLSIM_HD void operator()(int i) const {
@@ -213,6 +215,19 @@ struct ContactForces {
   Extra extra{};
   T* fixed_wall_torque = nullptr;  // HasFixedWalls: torque of the still walls about +z, N m
 
+  // What i's own contacts add up to before they are booked: gravity, its walls, an external
+  // load and, in the per-particle loop, its pairs (the batched pass books those apart).
+  struct OwnSums {
+    Vec3<T> f, tq;
+    T diss_rate, elastic, drum_tq, power_in, fixed_tq;
+  };
+
+  // The host's batched pass (contact_batch.hpp) can take the pairs of a plain drum or stirrer:
+  // one law and one step for all, no pair hook.
+  static constexpr bool kBatchable =
+      !Extra::kActive && std::is_same_v<Dt, T> &&
+      std::is_same_v<std::decay_t<decltype(lawAt(std::declval<const Law&>(), std::declval<const Vec3<T>&>()))>, Law>;
+
   MILLSIM_HD void operator()(int i) const {
     const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
     const T ri = p.radius[i], mi = p.contact_mass[i];
@@ -224,10 +239,7 @@ struct ContactForces {
     if constexpr (!std::is_same_v<Dt, T>) {
       if (dt == T(0)) return;
     }
-    Vec3<T> f = p.mass[i] * gravity;
-    Vec3<T> tq = core::zero3<T>();
-    T diss_rate = T(0), elastic = T(0), drum_tq = T(0), power_in = T(0);
-    [[maybe_unused]] T fixed_tq = T(0);
+    OwnSums a = startSums(i);
 
     const int end = nbr_start[i + 1];
     for (int slot = nbr_start[i]; slot < end; ++slot) {
@@ -245,43 +257,52 @@ struct ContactForces {
             const Vec3<T> n = (T(1) / dist) * d;
             const LubricationResult<T> l =
                 extra.pairLubrication(i, n, dist - reach, ri, rj, vi, p.vel[j], wi, p.omega[j]);
-            f += l.force;
-            tq += l.torque_i;
+            a.f += l.force;
+            a.tq += l.torque_i;
             sink.addPartner(j, -l.force, l.torque_j, T(0));
           }
         }
         continue;
       }
-      const T dist = std::sqrt(dist2);
-      const Vec3<T> n = (T(1) / dist) * d;
-      const T delta = reach - dist;
-      const T ai = ri - T(0.5) * delta, aj = rj - T(0.5) * delta;
-      const Vec3<T> v_rel = (vi + core::cross(wi, (-ai) * n)) - (p.vel[j] + core::cross(p.omega[j], aj * n));
       Vec3<T> s = pair_xi[slot];
       [[maybe_unused]] const bool begins = s.x == T(0) && s.y == T(0) && s.z == T(0);
-      const T mj = p.contact_mass[j];
-      const ContactResult<T> c = law_i(n, delta, ri * rj / reach, mi * mj / (mi + mj), v_rel, s, dt);
+      const Vec3<T> vj = p.vel[j], wj = p.omega[j];
+      const TouchingPair<T> t = touchingPair(law_i, d, dist2, ri, rj, mi, p.contact_mass[j], vi - vj, wi, wj, s, dt);
+      const ContactResult<T>& c = t.c;
       pair_xi[slot] = s;
-      const Vec3<T> nxft = core::cross(n, c.force_t);
-      f += c.force;
-      tq -= ai * nxft;
-      diss_rate += T(0.5) * c.dissipation_rate;
-      elastic += c.elastic_energy;
+      a.f += c.force;
+      a.tq -= t.ai * t.nxft;
+      a.diss_rate += T(0.5) * c.dissipation_rate;
+      a.elastic += c.elastic_energy;
       if constexpr (Extra::kActive) {
-        extra.pairContact(i, n, ri, rj, mi, vi, p.vel[j], wi, p.omega[j], v_rel, c, begins);
+        extra.pairContact(i, t.n, ri, rj, mi, vi, vj, wi, wj, t.v_rel, c, begins);
         if constexpr (Extra::kLub) {
           // In contact the film acts at the regularised inner cutoff (lubrication.hpp).
-          const LubricationResult<T> l = extra.pairLubrication(i, n, -delta, ri, rj, vi, p.vel[j], wi, p.omega[j]);
-          f += l.force;
-          tq += l.torque_i;
-          sink.addPartner(j, -c.force - l.force, l.torque_j - (aj * nxft), T(0.5) * c.dissipation_rate * dt);
+          const LubricationResult<T> l = extra.pairLubrication(i, t.n, -t.delta, ri, rj, vi, vj, wi, wj);
+          a.f += l.force;
+          a.tq += l.torque_i;
+          sink.addPartner(j, -c.force - l.force, l.torque_j - (t.aj * t.nxft), T(0.5) * c.dissipation_rate * dt);
           continue;
         }
       }
       // On j: -F, and the torque -aj (n_j x F_t,j) with n_j = -n, F_t,j = -F_t.
-      sink.addPartner(j, -c.force, -(aj * nxft), T(0.5) * c.dissipation_rate * dt);
+      sink.addPartner(j, -c.force, -(t.aj * t.nxft), T(0.5) * c.dissipation_rate * dt);
     }
 
+    wallContacts(i, law_i, dt, a);
+    bookOwn(i, dt, a);
+  }
+
+  MILLSIM_HD OwnSums startSums(int i) const {
+    return {p.mass[i] * gravity, core::zero3<T>(), T(0), T(0), T(0), T(0), T(0)};
+  }
+
+  // i's wall contacts (and, with lubrication, wall films) into its sums, with the wall springs'
+  // history carried by wall id.
+  template <class LawI>
+  MILLSIM_HD void wallContacts(int i, const LawI& law_i, T dt, OwnSums& a) const {
+    const Vec3<T> xi_pos = p.pos[i], vi = p.vel[i], wi = p.omega[i];
+    const T ri = p.radius[i], mi = p.contact_mass[i];
     int old_key[kWallSlots];
     Vec3<T> old_xi[kWallSlots];
     int n_old = 0;
@@ -299,10 +320,10 @@ struct ContactForces {
       if constexpr (Extra::kLub) {
         w.delta -= wall_range;
         const LubricationResult<T> l = extra.wallLubrication(i, w.n, -w.delta, ri, vi - w.velocity, wi);
-        f += l.force;
-        tq += l.torque_i;
-        power_in += core::dot(l.force, w.velocity);
-        bookWallTorque(w, l.force, drum_tq, fixed_tq);
+        a.f += l.force;
+        a.tq += l.torque_i;
+        a.power_in += core::dot(l.force, w.velocity);
+        bookWallTorque(w, l.force, a.drum_tq, a.fixed_tq);
         if (w.delta <= T(0)) return;  // a film, no contact
       }
       const T ai = ri - w.delta;
@@ -318,29 +339,32 @@ struct ContactForces {
       } else {
         wall_hist.overflow[i] = 1;
       }
-      f += c.force;
-      tq += core::cross((-ai) * w.n, c.force_t);
-      diss_rate += c.dissipation_rate;
-      elastic += c.elastic_energy;
+      a.f += c.force;
+      a.tq += core::cross((-ai) * w.n, c.force_t);
+      a.diss_rate += c.dissipation_rate;
+      a.elastic += c.elastic_energy;
       if constexpr (Extra::kActive) extra.wallContact(i, c);
       // Reaction on the drum: -F at the contact point; its z-moment drives the shaft torque.
-      bookWallTorque(w, c.force, drum_tq, fixed_tq);
-      power_in += core::dot(c.force, w.velocity);
+      bookWallTorque(w, c.force, a.drum_tq, a.fixed_tq);
+      a.power_in += core::dot(c.force, w.velocity);
     });
     for (int q = n_new; q < n_old; ++q) wall_hist.key[i * kWallSlots + q] = kNoPartner;
+  }
 
+  // i's sums to memory, with an external load (wet runs) added here.
+  MILLSIM_HD void bookOwn(int i, T dt, OwnSums& a) const {
     if (ext_force) {
       const Vec3<T> fe = ext_force[id[i]], te = ext_torque[id[i]];
-      f += fe;
-      tq += te;
+      a.f += fe;
+      a.tq += te;
       // Power of the external load at this instant (v, omega at the force evaluation).
-      work_external[i] += double(core::dot(fe, vi) + core::dot(te, wi)) * double(dt);
+      work_external[i] += double(core::dot(fe, p.vel[i]) + core::dot(te, p.omega[i])) * double(dt);
     }
-    sink.addOwn(i, f, tq, diss_rate * dt);
-    elastic_out[i] = elastic;
-    work_in[i] += double(power_in) * double(dt);
-    drum_torque[i] = drum_tq;
-    if constexpr (HasFixedWalls<Walls>::value) fixed_wall_torque[i] = fixed_tq;
+    sink.addOwn(i, a.f, a.tq, a.diss_rate * dt);
+    elastic_out[i] = a.elastic;
+    work_in[i] += double(a.power_in) * double(dt);
+    drum_torque[i] = a.drum_tq;
+    if constexpr (HasFixedWalls<Walls>::value) fixed_wall_torque[i] = a.fixed_tq;
   }
 
   // The z-moment of the reaction -F at the contact point: on the drum (or the stirrer), or on

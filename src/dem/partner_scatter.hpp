@@ -11,12 +11,14 @@
 // PartnerScatter<Space, T> picks the sink per execution space and runs the loop; the loop body
 // (dem_kernels.hpp) is the same functor for every sink.
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
+#include "dem/contact_batch.hpp"
 #include "millsim/backend/omp.hpp"
 #include "millsim/core/vec3.hpp"
 
@@ -75,6 +77,24 @@ struct ChunkRowsSink {
   }
 };
 
+// A loop over [lo, hi) on one thread: the contact pass in blocks of pairs where the loop allows
+// it (contact_batch.hpp), otherwise, or at SimdLevel::kScalar, one particle at a time.
+template <class Loop, class = void>
+struct IsBatchable : std::false_type {};
+template <class Loop>
+struct IsBatchable<Loop, std::void_t<decltype(Loop::kBatchable)>> : std::bool_constant<Loop::kBatchable> {};
+
+template <class Loop>
+void runRange(const Loop& loop, int lo, int hi) {
+  if constexpr (IsBatchable<Loop>::value) {
+    if (backend::simdLevel() != backend::SimdLevel::kScalar) {
+      runContactsBatched(loop, lo, hi);
+      return;
+    }
+  }
+  for (int i = lo; i < hi; ++i) loop(i);
+}
+
 template <class Space, class T>
 class PartnerScatter;
 
@@ -90,7 +110,7 @@ class PartnerScatter<backend::Omp, T> {
 #endif
     if (threads == 1) {
       const auto loop = make(DirectSink<T>{targets});
-      for (int i = 0; i < n; ++i) loop(i);
+      runRange(loop, 0, n);
       return;
     }
     const std::size_t rows = static_cast<std::size_t>(threads) * n;
@@ -103,7 +123,7 @@ class PartnerScatter<backend::Omp, T> {
           const int lo = std::min(n, k * chunk), hi = std::min(n, lo + chunk);
           const auto loop = make(ChunkRowsSink<T>{targets, m_rows.data() + static_cast<std::size_t>(k) * n, hi,
                                                   &m_touched[static_cast<std::size_t>(k)].index});
-          for (int i = lo; i < hi; ++i) loop(i);
+          runRange(loop, lo, hi);
         },
         [](int) {});
     // The rows past each chunk's end into the sums, cleared for the next pass (serial: the
