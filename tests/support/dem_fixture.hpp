@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -139,6 +140,44 @@ inline dem::DemHostState state(const dem::DemEngine& e) {
   dem::DemHostState s;
   e.getState(s);
   return s;
+}
+
+// ~4 000 balls of 4-5 mm dropped as a jittered lattice onto the bottom of a turning drum with
+// lifters (turningDrum): more than the OpenMP threshold (2 048), and after 400 steps of 5 us
+// many lasting contacts. Engine set-up: drumSetup(0.4, 0.5, 0.004, 0.005, {-0.17, -0.17, -0.01},
+// {0.17, 0.17, 0.095}).
+inline dem::DemHostState denseDrumBed() {
+  std::vector<Ball> balls;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> radius(0.004, 0.005), jitter(-5e-4, 5e-4), v(-0.2, 0.2);
+  for (int iz = 0; iz < 8; ++iz)
+    for (int iy = 0; iy < 22; ++iy)
+      for (int ix = 0; ix < 23; ++ix)
+        balls.push_back({-0.105 + 0.0095 * ix + jitter(rng), -0.105 + 0.0095 * iy + jitter(rng),
+                         0.006 + 0.0095 * iz + jitter(rng), v(rng), v(rng) - 1.0, v(rng), radius(rng)});
+  return hostState(balls, 7800.0);
+}
+
+inline dem::DrumState turningDrum(double t) {
+  dem::DrumState w;
+  w.radius = 0.16;
+  w.z_back = 0.085;
+  w.omega = 2.0;
+  w.phi = w.omega * t;
+  w.lifter_count = 8;
+  w.lifter_height = 0.01;
+  w.lifter_width = 0.01;
+  return w;
+}
+
+// denseDrumBed in its drum for `steps` steps of 5 us on the OpenMP engine.
+inline dem::DemHostState runDenseDrumBed(int steps) {
+  auto e = dem::makeDemEngineOmp(drumSetup(0.4, 0.5, 0.004, 0.005, {-0.17, -0.17, -0.01}, {0.17, 0.17, 0.095}), false);
+  e->setState(denseDrumBed());
+  const double dt = 5e-6;
+  e->initialize(turningDrum(0));
+  for (int k = 1; k <= steps; ++k) e->step(turningDrum(k * dt), dt);
+  return state(*e);
 }
 
 }  // namespace millsim::testing

@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "dem/contact/hertz.hpp"
-#include "dem/contact/linear_spring.hpp"
 #include "dem/contact_batch.hpp"
 #include "millsim/backend/simd.hpp"
 #include "support/dem_fixture.hpp"
@@ -134,36 +133,12 @@ TEST(ContactBatch, TanhSmoothedBlocksEqualPairCallsAtEverySimdLevel) {
   expectBlocksEqualPairCalls<double>(dem::HertzMindlin<double, dem::FrictionSmoothing::kTanh>{steel<double>()});
 }
 
-// The ~4 000-ball bed of test_dem_threads.cpp, on one thread, 400 steps of 5 us in a turning drum.
+// The dense bed of dem_fixture.hpp (as in test_dem_threads.cpp), one thread, 400 steps.
 dem::DemHostState runBed(SimdLevel level) {
   backend::setSimdLevel(level);
-  std::vector<testing::Ball> balls;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> radius(0.004, 0.005), jitter(-5e-4, 5e-4), v(-0.2, 0.2);
-  for (int iz = 0; iz < 8; ++iz)
-    for (int iy = 0; iy < 22; ++iy)
-      for (int ix = 0; ix < 23; ++ix)
-        balls.push_back({-0.105 + 0.0095 * ix + jitter(rng), -0.105 + 0.0095 * iy + jitter(rng),
-                         0.006 + 0.0095 * iz + jitter(rng), v(rng), v(rng) - 1.0, v(rng), radius(rng)});
-  const auto drum = [](double t) {
-    dem::DrumState w;
-    w.radius = 0.16;
-    w.z_back = 0.085;
-    w.omega = 2.0;
-    w.phi = w.omega * t;
-    w.lifter_count = 8;
-    w.lifter_height = 0.01;
-    w.lifter_width = 0.01;
-    return w;
-  };
-  auto e = dem::makeDemEngineOmp(testing::drumSetup(0.4, 0.5, 0.004, 0.005, {-0.17, -0.17, -0.01}, {0.17, 0.17, 0.095}),
-                                 false);
-  e->setState(testing::hostState(balls, 7800.0));
-  const double dt = 5e-6;
-  e->initialize(drum(0));
-  for (int k = 1; k <= 400; ++k) e->step(drum(k * dt), dt);
+  const dem::DemHostState s = testing::runDenseDrumBed(400);
   backend::setSimdLevel(backend::cpuSimdLevel());
-  return testing::state(*e);
+  return s;
 }
 
 TEST(ContactBatch, BlockedPassGivesThePairByPairPhysics) {

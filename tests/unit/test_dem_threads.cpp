@@ -17,43 +17,13 @@
 namespace millsim {
 namespace {
 
-// ~4 000 balls of 4-5 mm dropped as a jittered lattice onto the bottom of a turning drum with
-// lifters: more than the OpenMP threshold (2 048), and after 400 steps of 5 us many lasting
-// contacts, some across every chunk boundary.
-dem::DemHostState bed() {
-  std::vector<testing::Ball> balls;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> radius(0.004, 0.005), jitter(-5e-4, 5e-4), v(-0.2, 0.2);
-  for (int iz = 0; iz < 8; ++iz)
-    for (int iy = 0; iy < 22; ++iy)
-      for (int ix = 0; ix < 23; ++ix)
-        balls.push_back({-0.105 + 0.0095 * ix + jitter(rng), -0.105 + 0.0095 * iy + jitter(rng),
-                         0.006 + 0.0095 * iz + jitter(rng), v(rng), v(rng) - 1.0, v(rng), radius(rng)});
-  return testing::hostState(balls, 7800.0);
-}
-
-dem::DrumState drum(double t) {
-  dem::DrumState w;
-  w.radius = 0.16;
-  w.z_back = 0.085;
-  w.omega = 2.0;
-  w.phi = w.omega * t;
-  w.lifter_count = 8;
-  w.lifter_height = 0.01;
-  w.lifter_width = 0.01;
-  return w;
-}
-
+// The dense bed of dem_fixture.hpp (~4 000 balls, more than the OpenMP threshold; after 400
+// steps many lasting contacts, some across every chunk boundary).
 dem::DemHostState run(int threads) {
   omp_set_num_threads(threads);
-  auto e = dem::makeDemEngineOmp(testing::drumSetup(0.4, 0.5, 0.004, 0.005, {-0.17, -0.17, -0.01}, {0.17, 0.17, 0.095}),
-                                 false);
-  e->setState(bed());
-  const double dt = 5e-6;
-  e->initialize(drum(0));
-  for (int k = 1; k <= 400; ++k) e->step(drum(k * dt), dt);
+  const dem::DemHostState s = testing::runDenseDrumBed(400);
   omp_set_num_threads(1);
-  return testing::state(*e);
+  return s;
 }
 
 TEST(DemThreads, TwoThreadsGiveTheOneThreadPhysics) {
