@@ -6,8 +6,9 @@
 
 namespace millsim::backend {
 
+// The levels this build has loops for (contact_batch.hpp: GCC on x86-64) that the CPU supports.
 SimdLevel cpuSimdLevel() {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
   // libgcc's checks include the OS's: AVX-512 counts only when the kernel saves the ZMM state.
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&

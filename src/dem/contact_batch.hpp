@@ -5,9 +5,9 @@
 // the block is full the law runs over all of it in one loop the compiler vectorises
 // (touching_pair.hpp, the same code the per-particle loop and CUDA call), then the results are
 // booked to both sides in order. Why: in the per-particle loop each pair is one long chain of
-// dependent square roots and divisions, with an unpredictable branch (touching or not) in front
-// of it, so the core ran it mostly serially; in a block the same operations fill the vector
-// lanes, and the branch guards only a few loads. Measured in docs/performance.md.
+// dependent square roots and divisions, so the core ran the pairs mostly one after another; in
+// a block the same operations fill the vector lanes. Measured in docs/performance.md (the law
+// is then ~10% of the pass; the partner loads and adds around it are the rest).
 //
 // Host only (OpenMP): the block lives on the thread's stack. Bookings per pair equal the
 // per-particle loop's (the force, torque and half the dissipation on each side, the elastic
@@ -77,7 +77,8 @@ MILLSIM_FORCE_INLINE void evaluatePairBlockLoop(PairBlock<T>& b, int count, cons
 // itself targets baseline x86-64. Contraction into FMA is switched off in both (GCC contracts by
 // default in C++), so every level gives the same bits as the one-pair call: square root and
 // division are correctly rounded at every width (tests/unit/test_contact_batch.cpp checks it).
-#if defined(__x86_64__) && defined(__GNUC__)
+// GCC only (clang has no per-function fp-contract switch): other compilers run the baseline loop.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define MILLSIM_HAVE_SIMD_LEVELS 1
 template <class T, class Law>
 __attribute__((target("avx2,fma,bmi,bmi2"), optimize("fp-contract=off"))) void evaluatePairBlockAvx2(PairBlock<T>& b,
