@@ -180,7 +180,7 @@ void runContactsBatched(const CF& cf, int lo, int hi) {
       const T rj = p.radius[j];
       const T reach = ri + rj;
       const T dist2 = core::norm2(d);
-      if (dist2 >= reach * reach || dist2 <= T(0)) {
+      if (!pairTouches(dist2, reach)) {
         cf.pair_xi[slot] = core::zero3<T>();  // apart: the spring is released
         continue;
       }

@@ -248,7 +248,7 @@ struct ContactForces {
       const T rj = p.radius[j];
       const T reach = ri + rj;
       const T dist2 = core::norm2(d);
-      if (dist2 >= reach * reach || dist2 <= T(0)) {
+      if (!pairTouches(dist2, reach)) {
         pair_xi[slot] = core::zero3<T>();  // apart: the spring is released
         if constexpr (Extra::kLub) {
           const T lub_reach = reach + extra.pairRange(ri, rj);

@@ -12,6 +12,13 @@
 
 namespace millsim::dem {
 
+// Whether a listed pair touches: centres closer than r_i + r_j (and not coincident, where the
+// normal is undefined). Apart, its spring is released.
+template <class T>
+MILLSIM_HD MILLSIM_FORCE_INLINE bool pairTouches(T dist2, T reach) {
+  return dist2 < reach * reach && dist2 > T(0);
+}
+
 template <class T>
 struct TouchingPair {
   ContactResult<T> c;  // the force on i (j gets -c.force)
