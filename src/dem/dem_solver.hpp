@@ -168,6 +168,7 @@ class DemSolver final : public DemEngine {
     m_overflow.resize(n, 0);
     m_nbr_count.resize(n, 0);
     m_nbr_start.resize(n + 1, 0);
+    m_scatter.listChanged(nullptr, nullptr);
     seedHistory(s);
     m_restored_force.resize(0);
     m_restored_torque.resize(0);
@@ -180,10 +181,7 @@ class DemSolver final : public DemEngine {
       m_restored_force.copyFromHost(f);
       m_restored_torque.copyFromHost(tq);
     }
-    m_scratch_int.resize(n, 0);
-    m_scratch_real.resize(n, T(0));
-    m_scratch_double.resize(n, 0.0);
-    m_scratch_vec.resize(n, core::zero3<T>());
+    m_scratch.resize(0);
     m_old_of_new.resize(n, 0);
     m_nb = 0;  // bodies, if any, come with setBodies
     m_steps = 0;
@@ -255,7 +253,6 @@ class DemSolver final : public DemEngine {
     m_contact_mass.copyFromHost(contact_mass);
     m_inv_mass.copyFromHost(inv_mass_p);
     m_index_of_host.resize(m_n, 0);
-    m_scratch_int2.resize(m_n, 0);
     // Host copies in double: a checkpoint round trip must not perturb them through T.
     m_body_radius = b.radius;
     m_body_mass_host = b.mass;
@@ -524,15 +521,13 @@ class DemSolver final : public DemEngine {
         {"dem.external_loads",
          m_ext_force.bytes() + m_ext_torque.bytes() + m_ext_force_old.bytes() + m_ext_torque_old.bytes()},
         {"dem.partner_scatter", m_scatter.bytes()},
-        {"dem.reorder_scratch", m_scratch_int.bytes() + m_scratch_real.bytes() + m_scratch_double.bytes() +
-                                    m_scratch_vec.bytes() + m_old_of_new.bytes()},
-        {"dem.collision_stats", m_tally.bytes() + m_scratch_tally.bytes()},
+        {"dem.reorder_scratch", m_scratch.bytes() + m_old_of_new.bytes()},
+        {"dem.collision_stats", m_tally.bytes()},
         {"dem.bodies", m_body_pos.bytes() + m_body_vel.bytes() + m_body_L.bytes() + m_body_omega.bytes() +
                            m_body_q.bytes() + m_body_force.bytes() + m_body_torque.bytes() + m_body_inv_mass.bytes() +
                            m_body_inv_inertia.bytes() + m_body_start.bytes() + m_elem_offset.bytes() +
                            m_index_of_host.bytes() + m_body_of.bytes() + m_contact_mass.bytes() +
-                           m_scratch_int2.bytes() + m_body_ext_force.bytes() + m_body_ext_torque.bytes() +
-                           m_body_work_ext.bytes()},
+                           m_body_ext_force.bytes() + m_body_ext_torque.bytes() + m_body_work_ext.bytes()},
         {"dem.lubrication", m_lub_dissipated.bytes()},
         {"dem.ensemble", m_scene_params.bytes() + m_scene_drums.bytes() + m_scene_dt.bytes() + m_scene_skin.bytes()},
         {"neighbors", m_cells.bytes() + m_nbr_count.bytes() + m_nbr_start.bytes() + m_nbr_list.bytes() +
@@ -756,26 +751,26 @@ class DemSolver final : public DemEngine {
   // the old index of each new particle (the sorted order itself).
   const int* reorderParticles() {
     const int* order = m_cells.view().order;
-    gather(m_pos, m_scratch_vec, order, 1);
-    gather(m_vel, m_scratch_vec, order, 1);
-    gather(m_omega, m_scratch_vec, order, 1);
-    gather(m_radius, m_scratch_real, order, 1);
-    gather(m_mass, m_scratch_real, order, 1);
-    gather(m_inv_mass, m_scratch_real, order, 1);
-    gather(m_inv_inertia, m_scratch_real, order, 1);
-    gather(m_dissipated, m_scratch_double, order, 1);
-    gather(m_work_in, m_scratch_double, order, 1);
-    if (m_work_external.size() == static_cast<std::size_t>(m_n)) gather(m_work_external, m_scratch_double, order, 1);
-    gather(m_id, m_scratch_int, order, 1);
-    gather(m_overflow, m_scratch_int, order, 1);
+    gather(m_pos, order);
+    gather(m_vel, order);
+    gather(m_omega, order);
+    gather(m_radius, order);
+    gather(m_mass, order);
+    gather(m_inv_mass, order);
+    gather(m_inv_inertia, order);
+    gather(m_dissipated, order);
+    gather(m_work_in, order);
+    if (m_work_external.size() == static_cast<std::size_t>(m_n)) gather(m_work_external, order);
+    gather(m_id, order);
+    gather(m_overflow, order);
     if (m_nb > 0) {
-      gather(m_body_of, m_scratch_int2, order, 1);
-      gather(m_contact_mass, m_scratch_real, order, 1);
+      gather(m_body_of, order);
+      gather(m_contact_mass, order);
     }
-    gatherSlots(m_wall_key, m_scratch_int, order, kWallSlots);
-    gatherSlots(m_wall_xi, m_scratch_vec, order, kWallSlots);
-    if (m_tally.size() == static_cast<std::size_t>(m_n)) gather(m_tally, m_scratch_tally, order, 1);
-    if (m_lub_dissipated.size() == static_cast<std::size_t>(m_n)) gather(m_lub_dissipated, m_scratch_double, order, 1);
+    gatherSlots(m_wall_key, order, kWallSlots);
+    gatherSlots(m_wall_xi, order, kWallSlots);
+    if (m_tally.size() == static_cast<std::size_t>(m_n)) gather(m_tally, order);
+    if (m_lub_dissipated.size() == static_cast<std::size_t>(m_n)) gather(m_lub_dissipated, order);
     // Keep the order, then tell the cell list its particles now are in sorted order.
     backend::parallelFor(Space{}, m_n, Copy<int>{order, m_old_of_new.data()});
     m_cells.renumberedInOrder();
@@ -788,31 +783,53 @@ class DemSolver final : public DemEngine {
     backend::parallelFor(Space{}, static_cast<int>(from.size()), Copy<U>{from.data(), to.data()});
   }
 
+  // The renumbering's scratch: n entries of the widest per-particle type. At a rebuild the
+  // slot springs (m_pair_xi) are dead from the moment the loaded ones are set aside until the
+  // new list is built over them (12 B per slot, several slots per particle in a bed), so the
+  // gathers borrow that buffer; a dedicated one (m_scratch) exists only while it is too small
+  // (a sparse scene, the first rebuild after setState). Saves 32 B per particle (float; 88 B
+  // more with collision statistics) against a scratch array of each type.
+  std::size_t reorderScratchBytes() const {
+    std::size_t widest = std::max(sizeof(Vec3<T>), sizeof(double));
+    if (m_tally.size() == static_cast<std::size_t>(m_n)) widest = std::max(widest, sizeof(CollisionTally));
+    return widest * static_cast<std::size_t>(m_n);
+  }
+  bool canBorrowSlotSprings() const { return m_pair_xi.bytes() >= reorderScratchBytes(); }
   template <class U>
-  void gather(backend::Array<Space, U>& a, backend::Array<Space, U>& scratch, const int* order, int width) {
-    backend::parallelFor(Space{}, m_n, GatherRows<U>{a.data(), scratch.data(), order, width});
-    a.swap(scratch);
+  U* reorderScratch() {
+    static_assert(alignof(U) <= alignof(double), "the scratch is double-aligned");
+    if (canBorrowSlotSprings()) return reinterpret_cast<U*>(static_cast<void*>(m_pair_xi.data()));
+    const std::size_t words = (reorderScratchBytes() + sizeof(double) - 1) / sizeof(double);
+    if (m_scratch.size() < words) m_scratch.resize(words, 0.0);
+    return reinterpret_cast<U*>(static_cast<void*>(m_scratch.data()));
+  }
+
+  template <class U>
+  void gather(backend::Array<Space, U>& a, const int* order) {
+    U* scratch = reorderScratch<U>();
+    backend::parallelFor(Space{}, m_n, GatherRows<U>{a.data(), scratch, order, 1});
+    backend::parallelFor(Space{}, m_n, Copy<U>{scratch, a.data()});
   }
 
   // A table of `width` entries per particle (the wall springs) renumbered column by column
   // through the n-sized scratch: 64 B per particle less than a table-sized scratch (float).
   template <class U>
-  void gatherSlots(backend::Array<Space, U>& table, backend::Array<Space, U>& scratch, const int* order, int width) {
+  void gatherSlots(backend::Array<Space, U>& table, const int* order, int width) {
+    U* scratch = reorderScratch<U>();
     for (int k = 0; k < width; ++k) {
-      backend::parallelFor(Space{}, m_n, GatherSlot<U>{table.data(), scratch.data(), order, width, k});
-      backend::parallelFor(Space{}, m_n, PutSlot<U>{scratch.data(), table.data(), width, k});
+      backend::parallelFor(Space{}, m_n, GatherSlot<U>{table.data(), scratch, order, width, k});
+      backend::parallelFor(Space{}, m_n, PutSlot<U>{scratch, table.data(), width, k});
     }
   }
 
+  // A rebuild: the loaded springs set aside (compactly, in the numbering they were made in;
+  // a checkpoint's table is already that), the particles renumbered in cell order, the new
+  // list built over the old one, and each new slot's spring looked up in the table.
   void rebuildNeighbours() {
     ++m_rebuilds;
+    if (!m_old_is_seed) keepLoadedSprings();
     m_cells.build(m_pos.data(), m_n);
     const int* old_of_new = reorderParticles();
-    if (!m_old_is_seed) {
-      m_nbr_start.swap(m_old_start);
-      m_nbr_list.swap(m_old_list);
-      m_pair_xi.swap(m_old_xi);
-    }
     if (m_nbr_start.size() != static_cast<std::size_t>(m_n) + 1) m_nbr_start.resize(m_n + 1, 0);
     if (ensemble())
       buildList(SceneTable<T>{m_scene_skin.data(), m_slabs});
@@ -822,6 +839,31 @@ class DemSolver final : public DemEngine {
     backend::parallelFor(
         Space{}, m_n, TransferPairSprings<T>{old, old_of_new, m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data()});
     m_old_is_seed = false;
+    m_scatter.listChanged(m_nbr_start.data(), m_nbr_list.data());
+    // The next rebuild borrows the slot springs: a dedicated scratch is no longer needed.
+    if (m_scratch.size() > 0 && canBorrowSlotSprings()) m_scratch.resize(0);
+  }
+
+  // The loaded springs of the current list into the old table (m_old_start/list/xi), which
+  // grows with 25% to spare like the list, so a rebuild allocates only when the bed packs
+  // tighter than ever before. Before: the whole previous list and its springs were kept
+  // (16 B per slot); now 16 B per loaded pair.
+  void keepLoadedSprings() {
+    if (m_nbr_start.size() != static_cast<std::size_t>(m_n) + 1) {  // no list yet: nothing to keep
+      m_old_start.resize(m_n + 1, 0);
+      return;
+    }
+    if (m_old_start.size() != static_cast<std::size_t>(m_n) + 1) m_old_start.resize(m_n + 1, 0);
+    backend::parallelFor(Space{}, m_n, CountLoadedSprings<T>{m_nbr_start.data(), m_pair_xi.data(), m_nbr_count.data()});
+    const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_old_start.data(), m_n);
+    if (m_old_list.size() < total) {
+      const std::size_t size = total + total / 4 + 64;
+      m_old_list.resize(size, 0);
+      m_old_xi.resize(size, core::zero3<T>());
+    }
+    backend::parallelFor(Space{}, m_n,
+                         CompactLoadedSprings<T>{m_nbr_start.data(), m_nbr_list.data(), m_pair_xi.data(),
+                                                 m_old_start.data(), m_old_list.data(), m_old_xi.data()});
   }
 
   // Has any particle moved half its skin since the list was built (throws on a diverged one)?
@@ -1012,7 +1054,6 @@ class DemSolver final : public DemEngine {
   void allocateStirred() {
     const std::size_t n = static_cast<std::size_t>(m_n);
     if (m_setup.collision_stats && m_tally.size() != n) m_tally.resize(n, CollisionTally{});
-    if (m_setup.collision_stats && m_scratch_tally.size() != n) m_scratch_tally.resize(n, CollisionTally{});
     if (m_fixed_torque.size() != n) m_fixed_torque.resize(n, T(0));
     if (lubricated() && m_lub_dissipated.size() != n) m_lub_dissipated.resize(n, 0.0);
   }
@@ -1076,7 +1117,7 @@ class DemSolver final : public DemEngine {
   DemSetup m_setup;
   LinearSpringParams<T> m_linear;
   LubricationParams<T> m_lub;
-  backend::Array<Space, CollisionTally> m_tally, m_scratch_tally;
+  backend::Array<Space, CollisionTally> m_tally;
   backend::Array<Space, double> m_lub_dissipated;
   backend::Array<Space, T> m_fixed_torque;
   HertzParams<T> m_law;
@@ -1107,28 +1148,26 @@ class DemSolver final : public DemEngine {
   // Springs: one per half-list slot for pairs, kWallSlots per particle for walls.
   backend::Array<Space, Vec3<T>> m_pair_xi, m_wall_xi;
   backend::Array<Space, int> m_wall_key;
-  // The neighbour list and springs before the last rebuild (or a checkpoint's table), read once
-  // when the springs move to the new list.
+  // The loaded springs of the list before the last rebuild (or a checkpoint's table), read once
+  // when the springs move to the new list (keepLoadedSprings).
   backend::Array<Space, int> m_old_start, m_old_list;
   backend::Array<Space, Vec3<T>> m_old_xi;
   bool m_old_is_seed = false;
-  // Renumbering: a gather needs a second array of each kind; swapping keeps sizes without
-  // allocating in the step loop.
-  backend::Array<Space, int> m_scratch_int, m_old_of_new;
-  backend::Array<Space, T> m_scratch_real;
-  backend::Array<Space, double> m_scratch_double;
-  backend::Array<Space, Vec3<T>> m_scratch_vec;
+  // Renumbering: the old index of each new particle, and the scratch used when the dead
+  // springs cannot be borrowed (reorderScratch).
+  backend::Array<Space, int> m_old_of_new;
+  backend::Array<Space, double> m_scratch;
   // DCDEM rigid bodies (setBodies); none in a plain sphere run, and then no arrays.
   int m_nb = 0;
   backend::Array<Space, Vec3<T>> m_body_pos, m_body_vel, m_body_L, m_body_omega, m_body_force, m_body_torque;
   backend::Array<Space, Quat<T>> m_body_q;
   backend::Array<Space, Sym3<T>> m_body_inv_inertia;
   backend::Array<Space, T> m_body_inv_mass;
-  backend::Array<Space, int> m_body_start;               // host numbers of body b's elements: [start[b], start[b + 1])
-  backend::Array<Space, Vec3<T>> m_elem_offset;          // body frame, by host number
-  backend::Array<Space, int> m_index_of_host;            // current index of each host number
-  backend::Array<Space, int> m_body_of, m_scratch_int2;  // body of each particle (current index), -1: sphere
-  backend::Array<Space, T> m_contact_mass;               // body mass for elements, own mass for spheres
+  backend::Array<Space, int> m_body_start;       // host numbers of body b's elements: [start[b], start[b + 1])
+  backend::Array<Space, Vec3<T>> m_elem_offset;  // body frame, by host number
+  backend::Array<Space, int> m_index_of_host;    // current index of each host number
+  backend::Array<Space, int> m_body_of;          // body of each particle (current index), -1: sphere
+  backend::Array<Space, T> m_contact_mass;       // body mass for elements, own mass for spheres
   std::vector<double> m_body_radius, m_body_mass_host, m_body_inertia_host;  // as given to setBodies
   // Loads from outside (the fluid) per body, and their work; only in coupled runs.
   bool m_has_body_external = false;

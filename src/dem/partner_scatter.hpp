@@ -60,16 +60,16 @@ struct PartnerRow {
 template <class T>
 struct ChunkRowsSink {
   PartnerTargets<T> t;
-  PartnerRow<T>* row;  // this thread's rows (n entries; only [hi, *touched] are ever written)
+  PartnerRow<T>* row;  // this thread's window: row[j - hi] for partner j in [hi, highest partner]
   int hi;
-  int* touched;  // highest row index written, -1 for none
+  int* touched;  // highest partner index written, -1 for none
   void addOwn(int i, Vec3<T> f, Vec3<T> tq, T dissipated) const { DirectSink<T>{t}.addOwn(i, f, tq, dissipated); }
   void addPartner(int j, Vec3<T> f, Vec3<T> tq, T dissipated) const {
     if (j < hi) {
       DirectSink<T>{t}.addOwn(j, f, tq, dissipated);
       return;
     }
-    PartnerRow<T>& r = row[j];
+    PartnerRow<T>& r = row[j - hi];
     r.force += f;
     r.torque += tq;
     r.dissipated += dissipated;
@@ -101,6 +101,14 @@ class PartnerScatter;
 template <class T>
 class PartnerScatter<backend::Omp, T> {
  public:
+  // The half list the next passes run over (after each rebuild): the row windows are sized
+  // from it when a pass first needs them.
+  void listChanged(const int* start, const int* list) {
+    m_start = start;
+    m_list = list;
+    m_windows_of = -1;
+  }
+
   // make(sink) returns the loop functor for that sink type.
   template <class MakeLoop>
   void run(int n, const PartnerTargets<T>& targets, const MakeLoop& make) {
@@ -113,15 +121,14 @@ class PartnerScatter<backend::Omp, T> {
       runRange(loop, 0, n);
       return;
     }
-    const std::size_t rows = static_cast<std::size_t>(threads) * n;
-    if (m_rows.size() != rows) m_rows.assign(rows, PartnerRow<T>{});  // only when n or threads change
-    m_touched.assign(static_cast<std::size_t>(threads), Touched{});
     const int chunk = (n + threads - 1) / threads;
+    sizeWindows(n, threads, chunk);
+    m_touched.assign(static_cast<std::size_t>(threads), Touched{});
     backend::forEachChunk(
         backend::Omp{}, threads,
         [&](int k) {
           const int lo = std::min(n, k * chunk), hi = std::min(n, lo + chunk);
-          const auto loop = make(ChunkRowsSink<T>{targets, m_rows.data() + static_cast<std::size_t>(k) * n, hi,
+          const auto loop = make(ChunkRowsSink<T>{targets, m_rows.data() + m_offset[static_cast<std::size_t>(k)], hi,
                                                   &m_touched[static_cast<std::size_t>(k)].index});
           runRange(loop, lo, hi);
         },
@@ -129,11 +136,12 @@ class PartnerScatter<backend::Omp, T> {
     // The rows past each chunk's end into the sums, cleared for the next pass (serial: the
     // windows are a few cell layers long).
     for (int k = 0; k < threads; ++k) {
-      PartnerRow<T>* row = m_rows.data() + static_cast<std::size_t>(k) * n;
+      PartnerRow<T>* row = m_rows.data() + m_offset[static_cast<std::size_t>(k)];
       const int from = std::min(n, (k + 1) * chunk);
       for (int j = from; j <= m_touched[static_cast<std::size_t>(k)].index; ++j) {
-        DirectSink<T>{targets}.addOwn(j, row[j].force, row[j].torque, row[j].dissipated);
-        row[j] = PartnerRow<T>{};
+        PartnerRow<T>& r = row[j - from];
+        DirectSink<T>{targets}.addOwn(j, r.force, r.torque, r.dissipated);
+        r = PartnerRow<T>{};
       }
     }
   }
@@ -143,8 +151,44 @@ class PartnerScatter<backend::Omp, T> {
   struct alignas(64) Touched {  // one cache line per thread: no false sharing in the loop
     int index = -1;
   };
+
+  // Chunk k's window holds the partners past its end, hi .. the highest partner its particles
+  // list: in cell order a few cell layers (28 B per particle at 2 threads when each window
+  // was n rows long). Without a list (listChanged not called) every window reaches n. Sized
+  // once per list and thread count; the rows only grow, so a rebuild allocates only when a
+  // window outgrows every earlier one.
+  void sizeWindows(int n, int threads, int chunk) {
+    if (m_windows_of == threads && m_windows_n == n) return;
+    m_offset.assign(static_cast<std::size_t>(threads) + 1, 0);
+    std::vector<int> highest(static_cast<std::size_t>(threads), n - 1);
+    if (m_start && m_list) {
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) num_threads(threads)
+#endif
+      for (int k = 0; k < threads; ++k) {
+        const int lo = std::min(n, k * chunk), hi = std::min(n, lo + chunk);
+        int top = hi - 1;
+        for (int e = m_start[lo]; e < m_start[hi]; ++e) top = std::max(top, m_list[e]);
+        highest[static_cast<std::size_t>(k)] = top;
+      }
+    }
+    for (int k = 0; k < threads; ++k) {
+      const int hi = std::min(n, (k + 1) * chunk);
+      const std::size_t rows = static_cast<std::size_t>(std::max(0, highest[static_cast<std::size_t>(k)] - hi + 1));
+      m_offset[static_cast<std::size_t>(k) + 1] = m_offset[static_cast<std::size_t>(k)] + rows;
+    }
+    if (m_rows.size() < m_offset.back()) m_rows.assign(m_offset.back(), PartnerRow<T>{});
+    m_windows_of = threads;
+    m_windows_n = n;
+  }
+
   std::vector<PartnerRow<T>> m_rows;
+  std::vector<std::size_t> m_offset;  // chunk k's window starts at m_rows[m_offset[k]]
   std::vector<Touched> m_touched;
+  const int* m_start = nullptr;
+  const int* m_list = nullptr;
+  int m_windows_of = -1;  // thread count the windows were sized for (-1: not sized for this list)
+  int m_windows_n = -1;
 };
 
 }  // namespace millsim::dem

@@ -57,6 +57,46 @@ struct SpringTable {
   }
 };
 
+// The springs a rebuild carries: only loaded ones (a pair that came apart had its spring
+// released to zero, and a missing spring transfers as zero), written compactly per particle
+// into a SpringTable before the list is rebuilt over the slots that held them. In a bed about
+// half the listed pairs touch, so this table is about half the old list's size.
+template <class T>
+MILLSIM_HD inline bool loaded(const core::Vec3<T>& xi) {
+  return xi.x != T(0) || xi.y != T(0) || xi.z != T(0);
+}
+
+template <class T>
+struct CountLoadedSprings {
+  const int* start;
+  const core::Vec3<T>* xi;
+  int* count;
+  MILLSIM_HD void operator()(int i) const {
+    int c = 0;
+    for (int e = start[i]; e < start[i + 1]; ++e) c += loaded(xi[e]) ? 1 : 0;
+    count[i] = c;
+  }
+};
+
+template <class T>
+struct CompactLoadedSprings {
+  const int* start;
+  const int* list;
+  const core::Vec3<T>* xi;
+  const int* out_start;
+  int* out_partner;
+  core::Vec3<T>* out_xi;
+  MILLSIM_HD void operator()(int i) const {
+    int o = out_start[i];
+    for (int e = start[i]; e < start[i + 1]; ++e)
+      if (loaded(xi[e])) {
+        out_partner[o] = list[e];
+        out_xi[o] = xi[e];
+        ++o;
+      }
+  }
+};
+
 // Spring of each new half-list slot (i, j): looked up under the old numbers of i and j; when the
 // renumbering swapped which side is lower, the spring is seen from the other side (xi_ji = -xi_ij).
 template <class T>
