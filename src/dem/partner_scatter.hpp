@@ -159,8 +159,9 @@ class PartnerScatter<backend::Omp, T> {
   // window outgrows every earlier one.
   void sizeWindows(int n, int threads, int chunk) {
     if (m_windows_of == threads && m_windows_n == n) return;
-    m_offset.assign(static_cast<std::size_t>(threads) + 1, 0);
-    std::vector<int> highest(static_cast<std::size_t>(threads), n - 1);
+    m_offset.assign(static_cast<std::size_t>(threads) + 1, 0);  // same sizes: no allocation
+    std::vector<int>& highest = m_highest;
+    highest.assign(static_cast<std::size_t>(threads), n - 1);
     if (m_start && m_list) {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) num_threads(threads)
@@ -184,6 +185,7 @@ class PartnerScatter<backend::Omp, T> {
 
   std::vector<PartnerRow<T>> m_rows;
   std::vector<std::size_t> m_offset;  // chunk k's window starts at m_rows[m_offset[k]]
+  std::vector<int> m_highest;         // per chunk: the highest partner it lists
   std::vector<Touched> m_touched;
   const int* m_start = nullptr;
   const int* m_list = nullptr;

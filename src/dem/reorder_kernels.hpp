@@ -43,8 +43,8 @@ struct PutSlot {
 
 // Contact springs before the rebuild, as a compact table per old particle o: entries
 // start[o] .. start[o + 1] of partner (old index, always > o: a pair lives with its
-// lower-numbered side) and spring seen from o. This is the old half neighbour list itself, or
-// a checkpoint's history table.
+// lower-numbered side) and spring seen from o: the loaded springs of the old half list
+// (CompactLoadedSprings), or a checkpoint's history table.
 template <class T>
 struct SpringTable {
   const int* start;
