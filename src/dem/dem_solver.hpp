@@ -349,7 +349,7 @@ class DemSolver final : public DemEngine {
         record(id[i], wallKey(wall_key[i * kWallSlots + q]), wall_xi[i * kWallSlots + q]);
       for (int slot = start[i]; slot < start[i + 1]; ++slot) {
         const Vec3<T> xi = pair_xi[slot];
-        if (xi.x == T(0) && xi.y == T(0) && xi.z == T(0)) continue;
+        if (!loaded(xi)) continue;
         const int a = id[i], b = id[list[slot]];
         if (a < b)
           record(a, b, xi);
@@ -848,12 +848,9 @@ class DemSolver final : public DemEngine {
   // grows with 25% to spare like the list, so a rebuild allocates only when the bed packs
   // tighter than ever before. Before: the whole previous list and its springs were kept
   // (16 B per slot); now 16 B per loaded pair.
+  // Runs only after a rebuild since setState (m_old_is_seed false), so the list and the old
+  // table's starts (sized by seedHistory) exist.
   void keepLoadedSprings() {
-    if (m_nbr_start.size() != static_cast<std::size_t>(m_n) + 1) {  // no list yet: nothing to keep
-      m_old_start.resize(m_n + 1, 0);
-      return;
-    }
-    if (m_old_start.size() != static_cast<std::size_t>(m_n) + 1) m_old_start.resize(m_n + 1, 0);
     backend::parallelFor(Space{}, m_n, CountLoadedSprings<T>{m_nbr_start.data(), m_pair_xi.data(), m_nbr_count.data()});
     const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_old_start.data(), m_n);
     if (m_old_list.size() < total) {
