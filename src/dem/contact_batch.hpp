@@ -18,16 +18,6 @@
 #include "dem/touching_pair.hpp"
 #include "millsim/backend/simd.hpp"
 
-// Vectorise the loop that follows: its iterations are independent (each block entry is its own
-// pair, with its own spring slot).
-#if defined(__clang__)
-#define MILLSIM_VECTORIZE_LOOP _Pragma("clang loop vectorize(enable)")
-#elif defined(__GNUC__)
-#define MILLSIM_VECTORIZE_LOOP _Pragma("GCC ivdep")
-#else
-#define MILLSIM_VECTORIZE_LOOP
-#endif
-
 namespace millsim::dem {
 
 // Touching pairs waiting for the law, as structure of arrays. 64 pairs: ~16 KB in double, so
@@ -73,24 +63,15 @@ MILLSIM_FORCE_INLINE void evaluatePairBlockLoop(PairBlock<T>& b, int count, cons
   }
 }
 
-// The same loop compiled for AVX2 and for AVX-512 (8 doubles or 16 floats a vector); the library
-// itself targets baseline x86-64. Contraction into FMA is switched off in both (GCC contracts by
-// default in C++), so every level gives the same bits as the one-pair call: square root and
-// division are correctly rounded at every width (tests/unit/test_contact_batch.cpp checks it).
-// GCC only (clang has no per-function fp-contract switch): other compilers run the baseline loop.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define MILLSIM_HAVE_SIMD_LEVELS 1
+// The same loop compiled for AVX2 and for AVX-512 (simd.hpp: same bits at every level;
+// tests/unit/test_contact_batch.cpp checks it).
+#if defined(MILLSIM_HAVE_SIMD_LEVELS)
 template <class T, class Law>
-__attribute__((target("avx2,fma,bmi,bmi2"), optimize("fp-contract=off"))) void evaluatePairBlockAvx2(PairBlock<T>& b,
-                                                                                                     int count,
-                                                                                                     const Law& law,
-                                                                                                     T dt) {
+MILLSIM_TARGET_AVX2 void evaluatePairBlockAvx2(PairBlock<T>& b, int count, const Law& law, T dt) {
   evaluatePairBlockLoop(b, count, law, dt);
 }
 template <class T, class Law>
-__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx512cd,avx2,fma,bmi,bmi2,prefer-vector-width=512"),
-               optimize("fp-contract=off"))) void
-evaluatePairBlockAvx512(PairBlock<T>& b, int count, const Law& law, T dt) {
+MILLSIM_TARGET_AVX512 void evaluatePairBlockAvx512(PairBlock<T>& b, int count, const Law& law, T dt) {
   evaluatePairBlockLoop(b, count, law, dt);
 }
 #endif

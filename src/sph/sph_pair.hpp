@@ -41,14 +41,15 @@ struct SphSide {
   T rho, press;
   Sym3<T> tau;  // SPS stress (laminar+SPS only; zero otherwise)
   MILLSIM_HD bool fluid() const { return code == kFluid; }
-  MILLSIM_HD bool forces() const { return code == kFluid || code == kBoundBody; }
+  // Bitwise, not ||: no branch, so the pair blocks' loop (sph_pair_batch.hpp) vectorises.
+  MILLSIM_HD bool forces() const { return (code == kFluid) | (code == kBoundBody); }
 };
 
 // Sums of one particle over its pairs.
 template <class T>
 struct PairSums {
-  T drho = T(0);      // drho/dt
-  T visc_max = T(0);  // largest viscous speed of its pairs (eq. 40)
+  T drho = T(0);                      // drho/dt
+  T visc_max = T(0);                  // largest viscous speed of its pairs (eq. 40)
   Vec3<T> acc = core::zero3<T>();     // dv/dt without gravity (fluid); fluid force / mass (body)
   Vec3<T> grad_c = core::zero3<T>();  // shifting: grad C = sum_b V_b grad W
   T div_r = T(0);                     // shifting: div r = -sum_b V_b r_ab . grad W
@@ -70,8 +71,8 @@ struct SphPairPhysics {
   // kViscSpeed: also the viscous speed (a pair visited once books it on one side only: only the
   // largest over all pairs enters the time step).
   template <bool kViscSpeed = true>
-  MILLSIM_HD MILLSIM_FORCE_INLINE void addSide(PairSums<T>& s, const SphSide<T>& a, const SphSide<T>& b, Vec3<T> r_ab, T r2, T fac,
-                          Vec3<T> grad) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE void addSide(PairSums<T>& s, const SphSide<T>& a, const SphSide<T>& b, Vec3<T> r_ab,
+                                               T r2, T fac, Vec3<T> grad) const {
     const T vol_b = mass / b.rho;
     s.drho += a.rho * vol_b * core::dot(a.vel - b.vel, grad);
     // The velocity the viscous terms see (with no-slip walls, up to twice v_ab next to a wall);
@@ -84,7 +85,7 @@ struct SphPairPhysics {
     }
     if (!a.forces()) return;
     s.acc -= (mass * (a.press + b.press) / (a.rho * b.rho)) * grad;
-    s.acc += visc(r_ab, v_ab_visc, r2, fac, a.rho, b.rho, mass, !a.fluid() || !b.fluid(), a.tau, b.tau);
+    s.acc += visc(r_ab, v_ab_visc, r2, fac, a.rho, b.rho, mass, !a.fluid() | !b.fluid(), a.tau, b.tau);
     if (!a.fluid()) return;
     if constexpr (Ddt::kActive) {
       if (b.fluid()) s.drho += ddt(a.rho, b.rho, core::dot(up, r_ab), r2, fac, vol_b);

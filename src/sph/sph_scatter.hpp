@@ -24,6 +24,7 @@
 #include "millsim/backend/omp.hpp"
 #include "millsim/neighbors/cell_grid.hpp"
 #include "sph/sph_kernels.hpp"
+#include "sph/sph_pair_batch.hpp"
 
 namespace millsim::sph {
 
@@ -67,14 +68,18 @@ struct SphChunkSink {
   int hi, fluid_end;
   int own_lo, own_hi;
   int wall_lo, fluid_rows, below_rows;
-  MILLSIM_FORCE_INLINE void addOwn(int a, const PairSums<T>& s) const { SphDirectSink<T, kShift, kStrain>{p}.addOwn(a, s); }
+  MILLSIM_FORCE_INLINE void addOwn(int a, const PairSums<T>& s) const {
+    SphDirectSink<T, kShift, kStrain>{p}.addOwn(a, s);
+  }
   MILLSIM_FORCE_INLINE void addPartner(int b, const PairSums<T>& s) const {
     // Fluid partners are above a >= lo; walls are numbered after all fluid.
     if (b < hi || (b >= own_lo && b < own_hi)) {
       addShare<T, kShift, kStrain>(p, b, s);
       return;
     }
-    const int row = b < fluid_end ? b - hi : b < own_lo ? fluid_rows + (b - wall_lo) : fluid_rows + below_rows + (b - own_hi);
+    const int row = b < fluid_end ? b - hi
+                    : b < own_lo  ? fluid_rows + (b - wall_lo)
+                                  : fluid_rows + below_rows + (b - own_hi);
     addRow<T, kShift, kStrain>(rows[row], s);
   }
 };
@@ -82,7 +87,8 @@ struct SphChunkSink {
 template <class T>
 class SphPairScatter {
  public:
-  // Runs make(sink)(a) for every fluid particle a, the sink chosen by the thread count. fluid,
+  // Runs make(sink)(a) for every fluid particle a (in blocks of pairs: sph_pair_batch.hpp), the
+  // sink chosen by the thread count. fluid,
   // walls: the cell list's two segments, which the loop searches (their blocks of cells bound
   // the partners' numbers).
   template <bool kShift, bool kStrain, class MakeLoop>
@@ -94,8 +100,7 @@ class SphPairScatter {
     if (fluid_end >= backend::kOmpParallelThreshold) threads = omp_get_max_threads();
 #endif
     if (threads == 1) {
-      const auto loop = make(SphDirectSink<T, kShift, kStrain>{p});
-      for (int a = 0; a < fluid_end; ++a) loop(a);
+      runSphPairRange(make(SphDirectSink<T, kShift, kStrain>{p}), 0, fluid_end);
       return;
     }
     if (static_cast<int>(m_chunks.size()) != threads) {
@@ -110,7 +115,7 @@ class SphPairScatter {
           const auto loop = make(SphChunkSink<T, kShift, kStrain>{p, m_rows[static_cast<std::size_t>(k)].data(), c.hi,
                                                                   fluid_end, c.own_lo, c.own_hi, c.wall_lo,
                                                                   c.fluid_hi - c.hi, c.own_lo - c.wall_lo});
-          for (int a = c.lo; a < c.hi; ++a) loop(a);
+          runSphPairRange(loop, c.lo, c.hi);
         },
         [&](int k) { gatherRows<kShift, kStrain>(k, p); });
   }

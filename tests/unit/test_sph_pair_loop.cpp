@@ -7,6 +7,11 @@
 // a whole pair term, ~1e-2 of that scale). The scene has every kind of particle that takes
 // part: fluid, fixed and moving walls, body particles, with random velocities, densities and
 // SPS stresses, > 2048 fluid particles so two threads really split it.
+//
+// The host loop runs its pairs in blocks (sph_pair_batch.hpp) at every SIMD level but kScalar,
+// which runs it one particle at a time: both are held to the gather loop, at every level this
+// CPU has, and the block runs at the different levels must agree exactly (the same terms per
+// pair, FMA contraction off, the same order of the additions).
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -17,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "millsim/backend/simd.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 #include "sph/density_diffusion.hpp"
 #include "sph/eos.hpp"
@@ -39,8 +45,8 @@ struct Scene {
   Cells cells;  // two segments: fluid, then walls and bodies (as the solver keeps them)
 
   sph::SphView<double> view() {
-    return {pos.data(),   vel.data(),  rho.data(),    code.data(),   press.data(), ace.data(), drho.data(),
-            visc.data(),  grad_c.data(), div_r.data(), strain.data(), tau.data(),   vel.data()};
+    return {pos.data(),  vel.data(),    rho.data(),   code.data(),   press.data(), ace.data(), drho.data(),
+            visc.data(), grad_c.data(), div_r.data(), strain.data(), tau.data(),   vel.data()};
   }
 };
 
@@ -59,9 +65,12 @@ Scene makeScene(int dim) {
         // Three wall layers at the bottom (fixed) and the left (moving), a block of body
         // particles inside the fluid, fluid elsewhere.
         int c = sph::kFluid;
-        if (iy < 3) c = sph::kBoundFixed;
-        else if (ix < 3) c = sph::kBoundMoving;
-        else if (ix >= 8 && ix < 12 && iy >= 8 && iy < 12) c = sph::kBoundBody;
+        if (iy < 3)
+          c = sph::kBoundFixed;
+        else if (ix < 3)
+          c = sph::kBoundMoving;
+        else if (ix >= 8 && ix < 12 && iy >= 8 && iy < 12)
+          c = sph::kBoundBody;
         pos.push_back({ix * kDp + jitter(rng), iy * kDp + jitter(rng), dim == 3 ? iz * kDp + jitter(rng) : 0.0});
         code.push_back(c);
       }
@@ -110,8 +119,17 @@ Sums gather(Scene& s, const Physics& phys) {
   return read(s);
 }
 
+// kScalar (one particle at a time) and the block levels this CPU has.
+std::vector<backend::SimdLevel> hostLevels() {
+  std::vector<backend::SimdLevel> levels;
+  for (backend::SimdLevel l : {backend::SimdLevel::kScalar, backend::SimdLevel::kBaseline, backend::SimdLevel::kAvx2,
+                               backend::SimdLevel::kAvx512})
+    if (static_cast<int>(l) <= static_cast<int>(backend::cpuSimdLevel())) levels.push_back(l);
+  return levels;
+}
+
 template <class Physics>
-Sums pairOnce(Scene& s, const Physics& phys, int threads) {
+Sums pairOnce(Scene& s, const Physics& phys, int threads, backend::SimdLevel level) {
   const int n = static_cast<int>(s.pos.size());
   const sph::SphView<double> p = s.view();
   constexpr bool kShift = Physics::kShifting, kStrain = Physics::kStrain;
@@ -120,11 +138,13 @@ Sums pairOnce(Scene& s, const Physics& phys, int threads) {
   s.visc.assign(static_cast<std::size_t>(n), 0.0);
   sph::SphPairScatter<double> scatter;
   omp_set_num_threads(threads);
+  backend::setSimdLevel(level);
   scatter.run<kShift, kStrain>(s.cells.view(0), s.cells.view(1), s.pos.data(), p, [&](auto sink) {
-    return sph::SphPairInteraction<Physics, decltype(sink)>{s.cells.view(0), s.cells.view(1), p, phys, 4 * kH * kH,
-                                                            sink};
+    return sph::SphPairInteraction<Physics, decltype(sink)>{
+        s.cells.view(0), s.cells.view(1), p, phys, 4 * kH * kH, sink};
   });
   omp_set_num_threads(1);
+  backend::setSimdLevel(backend::cpuSimdLevel());
   return read(s);
 }
 
@@ -145,8 +165,8 @@ void expectSame(const Sums& a, const Sums& b, const std::vector<int>& code, bool
   const double s_drho = scale(a.drho), s_ace = scale(a.ace), s_grad = scale(a.grad_c), s_div = scale(a.div_r);
   double s_strain = 0;
   for (const auto& e : a.strain)
-    s_strain = std::max({s_strain, std::abs(e.xx), std::abs(e.yy), std::abs(e.zz), std::abs(e.xy), std::abs(e.xz),
-                         std::abs(e.yz)});
+    s_strain = std::max(
+        {s_strain, std::abs(e.xx), std::abs(e.yy), std::abs(e.zz), std::abs(e.xy), std::abs(e.xz), std::abs(e.yz)});
   if (strain) {
     ASSERT_GT(s_strain, 0) << what;
   }
@@ -182,10 +202,33 @@ void compareLoops(const Kernel& kernel, const Ddt& ddt, const Visc& visc, const 
   Scene s = makeScene(Dim);
   ASSERT_GT(std::count(s.code.begin(), s.code.end(), int(sph::kFluid)), 2048);
   const Sums ref = gather(s, phys);
-  const Sums one = pairOnce(s, phys, 1);
-  expectSame(ref, one, s.code, kShift, Physics::kStrain, what + ", one thread");
-  const Sums two = pairOnce(s, phys, 2);
-  expectSame(ref, two, s.code, kShift, Physics::kStrain, what + ", two threads");
+  const Sums* first_block = nullptr;
+  std::vector<Sums> runs;
+  runs.reserve(8);
+  for (backend::SimdLevel level : hostLevels()) {
+    const std::string at = what + ", " + backend::simdLevelName(level);
+    for (int threads : {1, 2}) {
+      runs.push_back(pairOnce(s, phys, threads, level));
+      expectSame(ref, runs.back(), s.code, kShift, Physics::kStrain, at + ", threads " + std::to_string(threads));
+    }
+    if (level == backend::SimdLevel::kScalar) continue;
+    // The block levels: the same bits on one thread.
+    const Sums& one = runs[runs.size() - 2];
+    if (first_block == nullptr) {
+      first_block = &one;
+      continue;
+    }
+    EXPECT_TRUE(one.drho == first_block->drho) << at;
+    EXPECT_TRUE(one.div_r == first_block->div_r) << at;
+    EXPECT_EQ(one.visc_max, first_block->visc_max) << at;
+    for (std::size_t i = 0; i < one.ace.size(); ++i) {
+      ASSERT_TRUE(one.ace[i].x == first_block->ace[i].x && one.ace[i].y == first_block->ace[i].y &&
+                  one.ace[i].z == first_block->ace[i].z)
+          << at << ", particle " << i;
+      ASSERT_TRUE(one.grad_c[i].x == first_block->grad_c[i].x && one.grad_c[i].z == first_block->grad_c[i].z) << at;
+      ASSERT_TRUE(one.strain[i].xy == first_block->strain[i].xy && one.strain[i].zz == first_block->strain[i].zz) << at;
+    }
+  }
 }
 
 TEST(SphPairLoop, PairOnceGivesTheGatherSums3dWendlandFourtakasArtificialShifting) {
