@@ -56,6 +56,18 @@ struct PairSums {
   Sym3<T> strain = zeroSym3<T>();     // SPS strain rate
 };
 
+// r += s for the sums a loop keeps (the viscous speed is a maximum, taken by whoever owns it).
+template <class T, bool kShift, bool kStrain>
+MILLSIM_HD MILLSIM_FORCE_INLINE void addPairSums(PairSums<T>& r, const PairSums<T>& s) {
+  r.drho += s.drho;
+  r.acc += s.acc;
+  if constexpr (kShift) {
+    r.grad_c += s.grad_c;
+    r.div_r += s.div_r;
+  }
+  if constexpr (kStrain) r.strain += s.strain;
+}
+
 template <class T, class Kernel, class Ddt, class Visc, bool kShift>
 struct SphPairPhysics {
   static constexpr bool kShifting = kShift;

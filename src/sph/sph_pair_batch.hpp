@@ -20,6 +20,39 @@
 
 namespace millsim::sph {
 
+// A symmetric tensor per block entry as six arrays.
+template <class T, int kN>
+MILLSIM_FORCE_INLINE void putSym(T (&t)[6][kN], int k, const Sym3<T>& s) {
+  t[0][k] = s.xx, t[1][k] = s.yy, t[2][k] = s.zz, t[3][k] = s.xy, t[4][k] = s.xz, t[5][k] = s.yz;
+}
+template <class T, int kN>
+MILLSIM_FORCE_INLINE Sym3<T> getSym(const T (&t)[6][kN], int k) {
+  return {t[0][k], t[1][k], t[2][k], t[3][k], t[4][k], t[5][k]};
+}
+
+// One side's terms of every entry of a block, as structure of arrays (sizes as SphPairBlock's).
+template <class T, int kSize, int kVisc, int kS, int kT>
+struct SphBlockSums {
+  T drho[kSize], visc[kVisc], ax[kSize], ay[kSize], az[kSize];
+  T gx[kS], gy[kS], gz[kS], div[kS], strain[6][kT];
+  MILLSIM_FORCE_INLINE void put(int k, const PairSums<T>& s) {
+    drho[k] = s.drho;
+    if constexpr (kVisc > 1) visc[k] = s.visc_max;
+    ax[k] = s.acc.x, ay[k] = s.acc.y, az[k] = s.acc.z;
+    if constexpr (kS > 1) gx[k] = s.grad_c.x, gy[k] = s.grad_c.y, gz[k] = s.grad_c.z, div[k] = s.div_r;
+    if constexpr (kT > 1) putSym(strain, k, s.strain);
+  }
+  MILLSIM_FORCE_INLINE PairSums<T> get(int k) const {
+    PairSums<T> s;
+    s.drho = drho[k];
+    if constexpr (kVisc > 1) s.visc_max = visc[k];
+    s.acc = {ax[k], ay[k], az[k]};
+    if constexpr (kS > 1) s.grad_c = {gx[k], gy[k], gz[k]}, s.div_r = div[k];
+    if constexpr (kT > 1) s.strain = getSym(strain, k);
+    return s;
+  }
+};
+
 // Pairs waiting for the terms, as structure of arrays. The evaluating side a is always fluid;
 // entries of one a are consecutive. Arrays a loop does not use (shifting sums, SPS stresses and
 // strain rates when those are off) shrink to one element.
@@ -36,10 +69,8 @@ struct alignas(64) SphPairBlock {
   T b_vx[kSize], b_vy[kSize], b_vz[kSize], b_wx[kSize], b_wy[kSize], b_wz[kSize], b_rho[kSize], b_p[kSize];
   T a_tau[6][kT], b_tau[6][kT];
   // Out: a's terms (with the viscous speed) and b's share.
-  T o_drho[kSize], o_visc[kSize], o_ax[kSize], o_ay[kSize], o_az[kSize];
-  T o_gx[kS], o_gy[kS], o_gz[kS], o_div[kS], o_strain[6][kT];
-  T s_drho[kSize], s_ax[kSize], s_ay[kSize], s_az[kSize];
-  T s_gx[kS], s_gy[kS], s_gz[kS], s_div[kS], s_strain[6][kT];
+  SphBlockSums<T, kSize, kSize, kS, kT> own;
+  SphBlockSums<T, kSize, 1, kS, kT> share;
 
   MILLSIM_FORCE_INLINE void stage(int k, int ia, const SphSide<T>& sa, int ib, const SphSide<T>& sb, Vec3<T> r_ab,
                                   T dist2) {
@@ -60,13 +91,6 @@ struct alignas(64) SphPairBlock {
       putSym(a_tau, k, sa.tau);
       putSym(b_tau, k, sb.tau);
     }
-  }
-
-  static MILLSIM_FORCE_INLINE void putSym(T (&t)[6][kT], int k, const Sym3<T>& s) {
-    t[0][k] = s.xx, t[1][k] = s.yy, t[2][k] = s.zz, t[3][k] = s.xy, t[4][k] = s.xz, t[5][k] = s.yz;
-  }
-  static MILLSIM_FORCE_INLINE Sym3<T> getSym(const T (&t)[6][kT], int k) {
-    return {t[0][k], t[1][k], t[2][k], t[3][k], t[4][k], t[5][k]};
   }
 };
 
@@ -91,25 +115,14 @@ MILLSIM_FORCE_INLINE void evaluateSphBlockLoop(SphPairBlock<Physics>& q, int cou
         q.code_b[k],  {q.b_vx[k], q.b_vy[k], q.b_vz[k]}, {q.b_wx[k], q.b_wy[k], q.b_wz[k]}, q.b_rho[k], q.b_p[k],
         zeroSym3<T>()};
     if constexpr (Block::kStrain) {
-      sa.tau = Block::getSym(q.a_tau, k);
-      sb.tau = Block::getSym(q.b_tau, k);
+      sa.tau = getSym(q.a_tau, k);
+      sb.tau = getSym(q.b_tau, k);
     }
     PairSums<T> own, share;
     phys.addSide(own, sa, sb, r_ab, r2, fac, grad);
     phys.template addSide<false>(share, sb, sa, -r_ab, r2, fac, -grad);
-    q.o_drho[k] = own.drho;
-    q.o_visc[k] = own.visc_max;
-    q.o_ax[k] = own.acc.x, q.o_ay[k] = own.acc.y, q.o_az[k] = own.acc.z;
-    q.s_drho[k] = share.drho;
-    q.s_ax[k] = share.acc.x, q.s_ay[k] = share.acc.y, q.s_az[k] = share.acc.z;
-    if constexpr (Block::kShift) {
-      q.o_gx[k] = own.grad_c.x, q.o_gy[k] = own.grad_c.y, q.o_gz[k] = own.grad_c.z, q.o_div[k] = own.div_r;
-      q.s_gx[k] = share.grad_c.x, q.s_gy[k] = share.grad_c.y, q.s_gz[k] = share.grad_c.z, q.s_div[k] = share.div_r;
-    }
-    if constexpr (Block::kStrain) {
-      Block::putSym(q.o_strain, k, own.strain);
-      Block::putSym(q.s_strain, k, share.strain);
-    }
+    q.own.put(k, own);
+    q.share.put(k, share);
   }
 }
 
@@ -145,31 +158,17 @@ struct SphRunningSums {
 // The evaluated entries to both sides' sums, in order.
 template <class Physics, class Sink, class T = decltype(Physics::mass)>
 void bookSphBlock(const Sink& sink, const SphPairBlock<Physics>& q, int count, SphRunningSums<T>& run) {
-  using Block = SphPairBlock<Physics>;
+  constexpr bool kShift = Physics::kShifting, kStrain = Physics::kStrain;
   for (int k = 0; k < count; ++k) {
     if (q.a[k] != run.a) {
       if (run.a >= 0) sink.addOwn(run.a, run.sums);
       run.a = q.a[k];
       run.sums = PairSums<T>{};
     }
-    PairSums<T>& s = run.sums;
-    s.drho += q.o_drho[k];
-    s.visc_max = s.visc_max > q.o_visc[k] ? s.visc_max : q.o_visc[k];
-    s.acc += Vec3<T>{q.o_ax[k], q.o_ay[k], q.o_az[k]};
-    PairSums<T> share;
-    share.drho = q.s_drho[k];
-    share.acc = {q.s_ax[k], q.s_ay[k], q.s_az[k]};
-    if constexpr (Block::kShift) {
-      s.grad_c += Vec3<T>{q.o_gx[k], q.o_gy[k], q.o_gz[k]};
-      s.div_r += q.o_div[k];
-      share.grad_c = {q.s_gx[k], q.s_gy[k], q.s_gz[k]};
-      share.div_r = q.s_div[k];
-    }
-    if constexpr (Block::kStrain) {
-      s.strain += Block::getSym(q.o_strain, k);
-      share.strain = Block::getSym(q.s_strain, k);
-    }
-    sink.addPartner(q.b[k], share);
+    const PairSums<T> own = q.own.get(k);
+    addPairSums<T, kShift, kStrain>(run.sums, own);
+    run.sums.visc_max = run.sums.visc_max > own.visc_max ? run.sums.visc_max : own.visc_max;
+    sink.addPartner(q.b[k], q.share.get(k));
   }
 }
 

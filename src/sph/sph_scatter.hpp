@@ -41,17 +41,6 @@ MILLSIM_FORCE_INLINE void addShare(const SphView<T>& p, int i, const PairSums<T>
 }
 
 template <class T, bool kShift, bool kStrain>
-MILLSIM_FORCE_INLINE void addRow(PairSums<T>& r, const PairSums<T>& s) {
-  r.drho += s.drho;
-  r.acc += s.acc;
-  if constexpr (kShift) {
-    r.grad_c += s.grad_c;
-    r.div_r += s.div_r;
-  }
-  if constexpr (kStrain) r.strain += s.strain;
-}
-
-template <class T, bool kShift, bool kStrain>
 struct SphDirectSink {
   SphView<T> p;
   MILLSIM_FORCE_INLINE void addOwn(int a, const PairSums<T>& s) const {
@@ -80,7 +69,7 @@ struct SphChunkSink {
     const int row = b < fluid_end ? b - hi
                     : b < own_lo  ? fluid_rows + (b - wall_lo)
                                   : fluid_rows + below_rows + (b - own_hi);
-    addRow<T, kShift, kStrain>(rows[row], s);
+    addPairSums<T, kShift, kStrain>(rows[row], s);
   }
 };
 
@@ -88,9 +77,8 @@ template <class T>
 class SphPairScatter {
  public:
   // Runs make(sink)(a) for every fluid particle a (in blocks of pairs: sph_pair_batch.hpp), the
-  // sink chosen by the thread count. fluid,
-  // walls: the cell list's two segments, which the loop searches (their blocks of cells bound
-  // the partners' numbers).
+  // sink chosen by the thread count. fluid, walls: the cell list's two segments, which the loop
+  // searches (their blocks of cells bound the partners' numbers).
   template <bool kShift, bool kStrain, class MakeLoop>
   void run(const neighbors::CellListView<T>& fluid, const neighbors::CellListView<T>& walls, const Vec3<T>* pos,
            const SphView<T>& p, const MakeLoop& make) {

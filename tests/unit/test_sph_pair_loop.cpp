@@ -221,12 +221,15 @@ void compareLoops(const Kernel& kernel, const Ddt& ddt, const Visc& visc, const 
     EXPECT_TRUE(one.drho == first_block->drho) << at;
     EXPECT_TRUE(one.div_r == first_block->div_r) << at;
     EXPECT_EQ(one.visc_max, first_block->visc_max) << at;
+    const auto same3 = [](const Vec3<double>& u, const Vec3<double>& w) {
+      return u.x == w.x && u.y == w.y && u.z == w.z;
+    };
     for (std::size_t i = 0; i < one.ace.size(); ++i) {
-      ASSERT_TRUE(one.ace[i].x == first_block->ace[i].x && one.ace[i].y == first_block->ace[i].y &&
-                  one.ace[i].z == first_block->ace[i].z)
+      const sph::Sym3<double>&u = one.strain[i], &w = first_block->strain[i];
+      ASSERT_TRUE(same3(one.ace[i], first_block->ace[i])) << at << ", particle " << i;
+      ASSERT_TRUE(same3(one.grad_c[i], first_block->grad_c[i])) << at << ", particle " << i;
+      ASSERT_TRUE(u.xx == w.xx && u.yy == w.yy && u.zz == w.zz && u.xy == w.xy && u.xz == w.xz && u.yz == w.yz)
           << at << ", particle " << i;
-      ASSERT_TRUE(one.grad_c[i].x == first_block->grad_c[i].x && one.grad_c[i].z == first_block->grad_c[i].z) << at;
-      ASSERT_TRUE(one.strain[i].xy == first_block->strain[i].xy && one.strain[i].zz == first_block->strain[i].zz) << at;
     }
   }
 }

@@ -5,8 +5,8 @@
 // compiled again for AVX2+FMA and AVX-512 and one is picked at run time from what the CPU (and
 // OS) supports. The environment variable MILLSIM_SIMD=scalar|baseline|avx2|avx512 (or
 // setSimdLevel) asks for a lower level, for comparisons; "scalar" runs the DEM contact pass and
-// the SPH pair loop pair by pair per particle, as CUDA does, with no blocks. A higher level than the CPU has is
-// refused, naming the level the CPU does have.
+// the SPH pair loop pair by pair per particle, as CUDA does, with no blocks. A higher level than
+// the CPU has is refused, naming the level the CPU does have.
 #include <string>
 
 // Vectorise the loop that follows: its iterations are independent (each entry of a pair block is
