@@ -7,6 +7,7 @@
 // decides the rest).
 #include "millsim/core/hd.hpp"
 #include "millsim/core/vec3.hpp"
+#include "millsim/neighbors/slot_filter.hpp"
 
 namespace millsim::neighbors {
 
@@ -48,6 +49,9 @@ struct CellListView {
   const int* order;
   const int* cell_start;
   const int* cell_end;
+  // order[s] == s (the particles were renumbered in cell order): on the host the distance test
+  // then reads consecutive positions in vectors (slot_filter.hpp).
+  bool in_order = false;
 
   // Calls f(j) for every particle j in the cells adjacent to p (including p's own cell).
   template <class F>
@@ -67,8 +71,16 @@ struct CellListView {
   template <class F>
   MILLSIM_HD void forEachWithin(core::Vec3<T> p, T radius2, const core::Vec3<T>* pos, F&& f) const {
     const Block b = blockAround(p);
+#ifndef __CUDA_ARCH__
+    if (in_order && grid.reach <= kMaxReachInOrder) {
+      Rows rows;
+      for (int z = b.z0; z <= b.z1; ++z)
+        for (int y = b.y0; y <= b.y1; ++y) rows.add(rowBegin(b, y, z), rowEnd(b, y, z));
+      return scanRows(rows, p, radius2, pos, f);
+    }
+#endif
     for (int z = b.z0; z <= b.z1; ++z)
-      for (int y = b.y0; y <= b.y1; ++y) scanRow(b, y, z, p, radius2, pos, f);
+      for (int y = b.y0; y <= b.y1; ++y) scanSlots(rowBegin(b, y, z), rowEnd(b, y, z), p, radius2, pos, f);
   }
 
   // The same for the particles numbered after `self`, the slot of p in a renumbered list
@@ -78,10 +90,20 @@ struct CellListView {
   template <class F>
   MILLSIM_HD void forEachWithinAfter(int self, core::Vec3<T> p, T radius2, const core::Vec3<T>* pos, F&& f) const {
     const Block b = blockAround(p);
-    scanSlots(self + 1, cell_end[grid.key(b.x1, b.cy, b.cz)], p, radius2, pos, f);
-    for (int y = b.cy + 1; y <= b.y1; ++y) scanRow(b, y, b.cz, p, radius2, pos, f);
+#ifndef __CUDA_ARCH__
+    if (in_order && grid.reach <= kMaxReachInOrder) {
+      Rows rows;
+      rows.add(self + 1, rowEnd(b, b.cy, b.cz));
+      for (int y = b.cy + 1; y <= b.y1; ++y) rows.add(rowBegin(b, y, b.cz), rowEnd(b, y, b.cz));
+      for (int z = b.cz + 1; z <= b.z1; ++z)
+        for (int y = b.y0; y <= b.y1; ++y) rows.add(rowBegin(b, y, z), rowEnd(b, y, z));
+      return scanRows(rows, p, radius2, pos, f);
+    }
+#endif
+    scanSlots(self + 1, rowEnd(b, b.cy, b.cz), p, radius2, pos, f);
+    for (int y = b.cy + 1; y <= b.y1; ++y) scanSlots(rowBegin(b, y, b.cz), rowEnd(b, y, b.cz), p, radius2, pos, f);
     for (int z = b.cz + 1; z <= b.z1; ++z)
-      for (int y = b.y0; y <= b.y1; ++y) scanRow(b, y, z, p, radius2, pos, f);
+      for (int y = b.y0; y <= b.y1; ++y) scanSlots(rowBegin(b, y, z), rowEnd(b, y, z), p, radius2, pos, f);
   }
 
   // The block of cells searched around p: its own cell (cx, cy, cz) and reach cells each way,
@@ -99,19 +121,47 @@ struct CellListView {
     return b;
   }
 
-  // The candidates of row (y, z) of the block within the radius.
+  // Row (y, z) of the block: its cells x0..x1 are one range of slots.
+  MILLSIM_HD int rowBegin(const Block& b, int y, int z) const { return cell_start[grid.key(b.x0, y, z)]; }
+  MILLSIM_HD int rowEnd(const Block& b, int y, int z) const { return cell_end[grid.key(b.x1, y, z)]; }
+
+#ifndef __CUDA_ARCH__
+  // A renumbered search's rows, gathered for one call of the vectorised filter.
+  static constexpr int kMaxReachInOrder = 2;
+  struct Rows {
+    static constexpr int kMax = (2 * kMaxReachInOrder + 1) * (2 * kMaxReachInOrder + 1);
+    int begin[kMax], end[kMax];
+    int count = 0, total = 0;
+    void add(int b, int e) {
+      begin[count] = b, end[count] = e;
+      ++count;
+      total += e > b ? e - b : 0;
+    }
+  };
+  // Host, renumbered: all the rows' candidates filtered in one call (filterRangesInOrder), then
+  // f on the hits, in row order. A block with more candidates than the buffer (a dense cluster)
+  // goes row by row through scanSlots.
   template <class F>
-  MILLSIM_HD MILLSIM_FORCE_INLINE void scanRow(const Block& b, int y, int z, core::Vec3<T> p, T radius2,
-                                               const core::Vec3<T>* pos, F& f) const {
-    scanSlots(cell_start[grid.key(b.x0, y, z)], cell_end[grid.key(b.x1, y, z)], p, radius2, pos, f);
+  void scanRows(const Rows& rows, core::Vec3<T> p, T radius2, const core::Vec3<T>* pos, F& f) const {
+    constexpr int kBuf = 512;
+    if (rows.total > kBuf) {
+      for (int k = 0; k < rows.count; ++k) scanSlots(rows.begin[k], rows.end[k], p, radius2, pos, f);
+      return;
+    }
+    int hit[kBuf + kSlotFilterPad];
+    T hit_r2[kBuf + kSlotFilterPad];
+    const int n = filterRangesInOrder(rows.begin, rows.end, rows.count, p, radius2, pos, hit, hit_r2);
+    for (int q = 0; q < n; ++q) f(hit[q], p - pos[hit[q]], hit_r2[q]);
   }
+#endif
 
   // The candidates in slots [begin, end) within the radius. On the host they are first filtered
   // into a small buffer without a branch, then f runs on the hits: in an SPH search about a
   // quarter of the candidates are hits, in random order within their cells, so a branch per
   // candidate mispredicts often (filtered, the search loop over a 3D lattice ran ~30% faster;
   // trimming the rows to the support sphere's chord was slower, its per-row square root costing
-  // more than the candidates it saved). On a GPU each thread tests and calls directly.
+  // more than the candidates it saved). Renumbered in order, the filter is vectorised
+  // (filterRangesInOrder). On a GPU each thread tests and calls directly.
   template <class F>
   MILLSIM_HD MILLSIM_FORCE_INLINE void scanSlots(int begin, int end, core::Vec3<T> p, T radius2,
                                                  const core::Vec3<T>* pos, F& f) const {
@@ -124,17 +174,21 @@ struct CellListView {
     }
 #else
     constexpr int kBuf = 64;
-    int hit[kBuf];
-    T hit_r2[kBuf];
+    int hit[kBuf + kSlotFilterPad];
+    T hit_r2[kBuf + kSlotFilterPad];
     for (int s0 = begin; s0 < end; s0 += kBuf) {
       const int s1 = end - s0 < kBuf ? end : s0 + kBuf;
       int n = 0;
-      for (int s = s0; s < s1; ++s) {
-        const int j = order[s];
-        const T r2 = core::norm2(p - pos[j]);
-        hit[n] = j;
-        hit_r2[n] = r2;
-        n += r2 < radius2 ? 1 : 0;
+      if (in_order) {
+        n = filterRangesInOrder(&s0, &s1, 1, p, radius2, pos, hit, hit_r2);
+      } else {
+        for (int s = s0; s < s1; ++s) {
+          const int j = order[s];
+          const T r2 = core::norm2(p - pos[j]);
+          hit[n] = j;
+          hit_r2[n] = r2;
+          n += r2 < radius2 ? 1 : 0;
+        }
       }
       for (int q = 0; q < n; ++q) f(hit[q], p - pos[hit[q]], hit_r2[q]);
     }

@@ -104,23 +104,28 @@ class CellList {
                 CellKeyFunctor<T>{m_grid, pos, code, skip_from, split, out_key, m_keys.data(), m_order.data()});
     sortByKey(Space{}, m_keys.data(), m_order.data(), n, out_key + 1, m_scratch);
     parallelFor(Space{}, n + 1, CellOffsetsFunctor{m_keys.data(), n, out_key, m_offsets.data()});
+    m_in_order = false;
   }
 
   // After the caller renumbered its particles by the sorted order of the last build(), the
   // cells stay valid and slot s now holds particle s.
-  void renumberedInOrder() { backend::parallelFor(Space{}, static_cast<int>(m_order.size()), IdentityFunctor{m_order.data()}); }
+  void renumberedInOrder() {
+    backend::parallelFor(Space{}, static_cast<int>(m_order.size()), IdentityFunctor{m_order.data()});
+    m_in_order = true;
+  }
 
   // Cell k of segment g holds slots [offsets[g cells + k], offsets[g cells + k + 1]): the view's
   // cell_end is its cell_start shifted by one.
   CellListView<T> view(int segment = 0) const {
     const int* start = m_offsets.data() + static_cast<std::size_t>(segment) * m_grid.cellCount();
-    return {m_grid, m_order.data(), start, start + 1};
+    return {m_grid, m_order.data(), start, start + 1, m_in_order};
   }
   std::size_t bytes() const { return m_keys.bytes() + m_order.bytes() + m_offsets.bytes(); }
 
  private:
   CellGrid<T> m_grid{};
   int m_segments = 1;
+  bool m_in_order = false;  // order is the identity (renumberedInOrder since the last build)
   backend::Array<Space, int> m_keys, m_order, m_offsets;
   std::vector<int> m_scratch;
 };
