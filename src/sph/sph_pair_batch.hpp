@@ -187,7 +187,7 @@ void runSphPairsBatched(const Interaction& it, int lo, int hi) {
   for (int a = lo; a < hi; ++a) {
     if (p.code[a] != kFluid) continue;
     const SphSide<T> sa = loadSide<T, Physics::kStrain>(p, a);
-    const auto stage = [&](int b, Vec3<T> r_ab, T r2) {
+    const auto stage = [&](int b, Vec3<T> r_ab, T r2) MILLSIM_LAMBDA_FORCE_INLINE {
       if (r2 <= T(0)) return;
       q.stage(count, a, sa, b, loadSide<T, Physics::kStrain>(p, b), r_ab, r2);
       if (++count == SphPairBlock<Physics>::kSize) {

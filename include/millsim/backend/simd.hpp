@@ -32,6 +32,15 @@
                  optimize("fp-contract=off")))
 #endif
 
+// always_inline for a lambda (written after its parameter list), on the host: a search calls its
+// per-hit lambda from several places (each row range, the dense fallback), and GCC then left
+// the SPH pair loop's staging lambda as a call per pair.
+#if defined(__GNUC__) && !defined(__CUDACC__)
+#define MILLSIM_LAMBDA_FORCE_INLINE __attribute__((always_inline))
+#else
+#define MILLSIM_LAMBDA_FORCE_INLINE
+#endif
+
 namespace millsim::backend {
 
 enum class SimdLevel { kScalar = -1, kBaseline = 0, kAvx2 = 1, kAvx512 = 2 };
