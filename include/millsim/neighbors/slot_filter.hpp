@@ -1,9 +1,10 @@
 #pragma once
 // The distance test of a host neighbour search, for a cell list whose particles were renumbered
 // in cell order (slot s holds particle s, CellList::renumberedInOrder): the candidates of a row
-// of cells are then consecutive positions, which a vector unit can load and test 8 or 16 at a
-// time (AVX-512: three loads, a de-interleave of x, y, z, the squared distance, a compare, and a
-// compress of the hits into the buffer). Why: in the SPH pair loop the test of each candidate,
+// of cells are then consecutive positions, which a vector unit can load and test 4 to 16 at a
+// time (three loads, a de-interleave of x, y, z by permutes, the squared distance, a compare,
+// and the hits moved to the front of the buffer: a compress with AVX-512, a table of lane
+// numbers with AVX2; other CPUs run the scalar test). Why: in the SPH pair loop the test of each candidate,
 // one after another, was a quarter of a wet mill's step (perf, 2026-12-03; about a quarter of
 // the candidates are hits).
 //
