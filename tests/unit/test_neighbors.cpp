@@ -16,6 +16,7 @@
 #include "millsim/backend/simd.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 #include "millsim/neighbors/slot_filter.hpp"
+#include "support/simd_levels.hpp"
 
 using millsim::core::Vec3;
 
@@ -112,14 +113,6 @@ TEST(CellGrid, KeysSortedAndRangesCoverEveryParticle) {
 
 namespace {
 
-std::vector<millsim::backend::SimdLevel> hostLevels() {
-  using millsim::backend::SimdLevel;
-  std::vector<SimdLevel> levels;
-  for (SimdLevel l : {SimdLevel::kScalar, SimdLevel::kBaseline, SimdLevel::kAvx2, SimdLevel::kAvx512})
-    if (static_cast<int>(l) <= static_cast<int>(millsim::backend::cpuSimdLevel())) levels.push_back(l);
-  return levels;
-}
-
 // One to three ranges [begin, end), each up to 40 slots long at several offsets (full vectors,
 // partial tails of every length, empty ranges), points at about the radius (a quarter to a half
 // are hits), one NaN position (never a hit): hits and squared distances equal to the plain
@@ -135,7 +128,7 @@ void checkSlotFilter() {
   const T radius2 = T(0.8);
   const int kSentinel = -7;
   std::uniform_int_distribution<int> extra(0, 40);
-  for (const auto level : hostLevels()) {
+  for (const auto level : millsim::testing::hostSimdLevels()) {
     millsim::backend::setSimdLevel(level);
     for (int ranges = 1; ranges <= 3; ++ranges)
       for (int begin0 : {0, 1, 5, 16, 29})
@@ -193,7 +186,7 @@ void checkRenumberedSearch(bool two_d) {
   const auto view = cells.view();
   ASSERT_TRUE(view.in_order);
   const T cut2 = T(cut * cut);
-  for (const auto level : hostLevels()) {
+  for (const auto level : millsim::testing::hostSimdLevels()) {
     millsim::backend::setSimdLevel(level);
     PairSet found;
     for (int s = 0; s < static_cast<int>(q.size()); ++s)

@@ -29,6 +29,7 @@
 #include "sph/kernels.hpp"
 #include "sph/sph_kernels.hpp"
 #include "sph/sph_scatter.hpp"
+#include "support/simd_levels.hpp"
 
 namespace millsim {
 namespace {
@@ -119,15 +120,6 @@ Sums gather(Scene& s, const Physics& phys) {
   return read(s);
 }
 
-// kScalar (one particle at a time) and the block levels this CPU has.
-std::vector<backend::SimdLevel> hostLevels() {
-  std::vector<backend::SimdLevel> levels;
-  for (backend::SimdLevel l : {backend::SimdLevel::kScalar, backend::SimdLevel::kBaseline, backend::SimdLevel::kAvx2,
-                               backend::SimdLevel::kAvx512})
-    if (static_cast<int>(l) <= static_cast<int>(backend::cpuSimdLevel())) levels.push_back(l);
-  return levels;
-}
-
 template <class Physics>
 Sums pairOnce(Scene& s, const Physics& phys, int threads, backend::SimdLevel level) {
   const int n = static_cast<int>(s.pos.size());
@@ -205,7 +197,7 @@ void compareLoops(const Kernel& kernel, const Ddt& ddt, const Visc& visc, const 
   const Sums* first_block = nullptr;
   std::vector<Sums> runs;
   runs.reserve(8);
-  for (backend::SimdLevel level : hostLevels()) {
+  for (backend::SimdLevel level : millsim::testing::hostSimdLevels()) {
     const std::string at = what + ", " + backend::simdLevelName(level);
     for (int threads : {1, 2}) {
       runs.push_back(pairOnce(s, phys, threads, level));
