@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "millsim/core/error.hpp"
@@ -45,24 +46,41 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
                          sc.drum.lifters.height,
                          sc.drum.lifters.width,
                          phi + 0.5 * std::acos(-1.0)};  // DrumMotion's phase0: a lifter on top at phi = 0
+  // The lattice is indexed (i + n, j + n, k) so that each ball clears only the points of its own
+  // bounding box: O(points + balls x box), not O(points x balls) (a 2 m mill has 1e7 points and
+  // 3e4 balls). The points and their order are the same as a scan of every point would give.
   std::vector<FillPoint> candidates;
   const int n = static_cast<int>(std::ceil(R / dp)), nz = static_cast<int>(std::floor(L / dp + 1e-9));
+  const std::size_t row = 2 * static_cast<std::size_t>(n);
+  std::vector<int> index_of(row * row * static_cast<std::size_t>(std::max(nz, 0)), -1);
   for (int k = 0; k < nz; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
         const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
         if (std::hypot(x, y) > R - 0.5 * dp || sph::insideLifter(drum, x, y, 0.5 * dp)) continue;
+        index_of[(static_cast<std::size_t>(k) * row + (j + n)) * row + (i + n)] = static_cast<int>(candidates.size());
         candidates.push_back({x, y, z});
       }
   std::vector<char> free(candidates.size(), 1);
+  // Lattice indices whose point (index + 0.5) dp lies within [lo, hi], clipped to [first, last].
+  auto span = [dp](double lo, double hi, int first, int last) {
+    return std::make_pair(std::max(first, static_cast<int>(std::floor(lo / dp - 0.5))),
+                          std::min(last, static_cast<int>(std::ceil(hi / dp - 0.5))));
+  };
   for (std::size_t b = 0; b < m_balls; ++b) {
     const double cx = balls.pos[3 * b], cy = balls.pos[3 * b + 1], cz = balls.pos[3 * b + 2];
     const double clear = balls.radius[b] + 0.5 * dp;
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      if (!free[c]) continue;
-      const double dx = candidates[c].x - cx, dy = candidates[c].y - cy, dz = candidates[c].z - cz;
-      if (dx * dx + dy * dy + dz * dz < clear * clear) free[c] = 0;
-    }
+    const auto [i0, i1] = span(cx - clear, cx + clear, -n, n - 1);
+    const auto [j0, j1] = span(cy - clear, cy + clear, -n, n - 1);
+    const auto [k0, k1] = span(cz - clear, cz + clear, 0, nz - 1);
+    for (int k = k0; k <= k1; ++k)
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const int c = index_of[(static_cast<std::size_t>(k) * row + (j + n)) * row + (i + n)];
+          if (c < 0) continue;
+          const double dx = candidates[c].x - cx, dy = candidates[c].y - cy, dz = candidates[c].z - cz;
+          if (dx * dx + dy * dy + dz * dz < clear * clear) free[c] = 0;
+        }
   }
   std::vector<FillPoint> fluid;
   for (std::size_t c = 0; c < candidates.size(); ++c)
@@ -126,7 +144,8 @@ namespace {
 // surface collected so far.
 std::vector<double> flatten(const std::vector<sph::SphBodyLoad>& loads) {
   std::vector<double> v;
-  for (const auto& l : loads) v.insert(v.end(), {l.force[0], l.force[1], l.force[2], l.torque[0], l.torque[1], l.torque[2]});
+  for (const auto& l : loads)
+    v.insert(v.end(), {l.force[0], l.force[1], l.force[2], l.torque[0], l.torque[1], l.torque[2]});
   return v;
 }
 
