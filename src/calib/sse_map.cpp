@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <stdexcept>
+
+#include "vision/cv_convert.hpp"
 
 namespace millsim::calib {
 
@@ -178,7 +178,7 @@ void writeSseMap(const std::string& path, const ParamBox& box, const std::vector
   text(img, "squares: initial candidates, circles: later ones (numbered in order), x: failed, star: best",
        {kLeft + S / 2, kTop + S + 70}, 0.36, 1);
 
-  if (!cv::imwrite(path, img, {cv::IMWRITE_PNG_COMPRESSION, 9})) throw std::runtime_error(path + ": cannot write");
+  vision::detail::writePngBgr(path, img);
 }
 
 }  // namespace millsim::calib

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <stdexcept>
+
+#include "vision/cv_convert.hpp"
 
 namespace millsim::io {
 namespace {
@@ -27,9 +27,7 @@ std::string label(double v, double step) {
   return buf;
 }
 
-void save(const std::string& path, const cv::Mat& img) {
-  if (!cv::imwrite(path, img)) throw std::runtime_error(path + ": cannot write the PNG");
-}
+void save(const std::string& path, const cv::Mat& img) { vision::detail::writePngBgr(path, img); }
 
 // Blue (0) - white (0.5) - red (1).
 cv::Scalar diverging(double s) {
@@ -78,8 +76,8 @@ void writeLinePlot(const std::string& path, const PlotAxes& ax, const std::vecto
   }
   cv::rectangle(img, px(x0, y1), px(x1, y0), black, 1);
   cv::putText(img, ax.title, cv::Point(left, 32), font, 0.7, black, 1, cv::LINE_AA);
-  cv::putText(img, ax.x_label, cv::Point(left + (W - left - right) / 2 - 4 * int(ax.x_label.size()), H - 20), font,
-              0.6, black, 1, cv::LINE_AA);
+  cv::putText(img, ax.x_label, cv::Point(left + (W - left - right) / 2 - 4 * int(ax.x_label.size()), H - 20), font, 0.6,
+              black, 1, cv::LINE_AA);
   cv::Mat ylab(24, 12 * int(ax.y_label.size()) + 10, CV_8UC3, cv::Scalar(255, 255, 255));
   cv::putText(ylab, ax.y_label, cv::Point(4, 18), font, 0.6, black, 1, cv::LINE_AA);
   cv::rotate(ylab, ylab, cv::ROTATE_90_COUNTERCLOCKWISE);

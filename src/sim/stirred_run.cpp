@@ -12,7 +12,6 @@
 #include <fstream>
 #include <iomanip>
 #include <numeric>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <sstream>
@@ -23,11 +22,12 @@
 #include "dem/walls/stirrer_walls.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/core/error.hpp"
-#include "sim/drum_setup.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
+#include "sim/drum_setup.hpp"
 #include "sim/engine_factory.hpp"
 #include "sim/run_outputs.hpp"
+#include "vision/cv_convert.hpp"
 
 namespace millsim::sim {
 
@@ -622,7 +622,7 @@ void StirredRun::Impl::writeVelocityField(const fs::path& out) const {
     std::ostringstream top;
     top << label << " (mean over length), max " << std::setprecision(3) << vmax;
     cv::putText(img, top.str(), {4, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1);
-    cv::imwrite((out / file_name).string(), img);
+    vision::detail::writePngBgr((out / file_name).string(), img);
   };
   map(v_sum, "velocity_translational.png", "|v| [m/s]");
   map(w_sum, "velocity_rotational.png", "|w| [rad/s]");

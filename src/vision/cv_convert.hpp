@@ -7,8 +7,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <string>
 
 #include "millsim/vision/image.hpp"
+#include "millsim/vision/png_io.hpp"
 
 namespace millsim::vision::detail {
 
@@ -66,5 +68,10 @@ inline ImageRgb toImageRgb(const cv::Mat& m) {
   if (!img.pixels.empty()) std::memcpy(img.pixels.data(), rgb.data, img.pixels.size() * 3);
   return img;
 }
+
+// A drawn BGR (or gray) Mat as PNG, through libpng (png_io.cpp) rather than cv::imwrite: only the
+// video input needs OpenCV's codecs, so the engines' binaries (GPU tests and benchmarks, which
+// write plots) do not pull in imgcodecs and its image-format libraries (~120 MiB with GDAL).
+inline void writePngBgr(const std::string& path, const cv::Mat& m) { writePng(path, toImageRgb(m)); }
 
 }  // namespace millsim::vision::detail

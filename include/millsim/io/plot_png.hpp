@@ -1,7 +1,8 @@
 #pragma once
 // Small PNG plots for what a person would rather look at than read: x-y line plots with
 // markers, axes, ticks, labels and a legend (validation curves, convergence), and particle
-// snapshots of a 2D (or projected 3D) SPH run coloured by a value. Drawn with OpenCV.
+// snapshots of a 2D (or projected 3D) SPH run coloured by a value. Drawn with OpenCV, written
+// with libpng (vision/png_io).
 #include <array>
 #include <string>
 #include <vector>
