@@ -84,7 +84,12 @@ struct SphInteraction {
   T support2;  // (2h)^2
 
   MILLSIM_HD void operator()(int a) const {
-    if (isExcluded(p.code[a])) return;
+    if (isExcluded(p.code[a])) {
+      // Zero sums, as the OpenMP path's ClearPairSums leaves them: readers skip excluded
+      // particles, but the slot must not hold another particle's sums from before a renumbering.
+      storeSums<T, Physics::kShifting, Physics::kStrain>(p, a, PairSums<T>{});
+      return;
+    }
     const SphSide<T> sa = loadSide<T, Physics::kStrain>(p, a);
     PairSums<T> sums;
     auto pair = [&](int b, Vec3<T> r_ab, T r2) {

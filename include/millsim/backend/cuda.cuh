@@ -3,15 +3,19 @@
 // functors as the OpenMP loop, reductions and sort-by-key through Thrust. Only .cu files include
 // this header.
 #include <cuda_runtime.h>
+#include <thrust/binary_search.h>
 #include <thrust/device_ptr.h>
 #include <thrust/execution_policy.h>
+#include <thrust/functional.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 #include <thrust/sort.h>
+#include <thrust/system/cuda/execution_policy.h>
 #include <thrust/transform_reduce.h>
-#include <thrust/functional.h>
 
+#include <cstddef>
 #include <cstdlib>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <typeinfo>
@@ -27,7 +31,8 @@ struct Cuda {
 };
 
 inline void cudaCheck(cudaError_t err, const char* what) {
-  if (err != cudaSuccess) throw std::runtime_error(std::string("CUDA error in ") + what + ": " + cudaGetErrorString(err));
+  if (err != cudaSuccess)
+    throw std::runtime_error(std::string("CUDA error in ") + what + ": " + cudaGetErrorString(err));
 }
 
 template <class T>
@@ -103,27 +108,84 @@ void parallelFor(Cuda, int n, const F& f) {
   if (cudaSyncEveryLaunch()) cudaCheck(cudaDeviceSynchronize(), typeid(F).name());
 }
 
+// Thrust's temporary storage (the reductions' partial sums, the sort's and the scan's buffers)
+// from a cache: without it every call is a cudaMalloc and a cudaFree, each synchronising the
+// device, several times per step. A freed block goes back to the cache and serves the next
+// request of at most its size; nothing is returned to the device until exit. One host thread
+// drives the device (the solvers call thrust from the step loop only).
+class ThrustTempCache {
+ public:
+  using value_type = char;
+  ThrustTempCache() = default;
+  ThrustTempCache(const ThrustTempCache&) = delete;
+  ThrustTempCache& operator=(const ThrustTempCache&) = delete;
+  ~ThrustTempCache() {
+    for (auto& block : m_free) cudaFree(block.second);  // at exit; errors (context gone) ignored
+    for (auto& block : m_used) cudaFree(block.first);
+  }
+  char* allocate(std::ptrdiff_t n) {
+    auto it = m_free.lower_bound(n);  // the smallest free block that is large enough
+    char* p = nullptr;
+    if (it != m_free.end()) {
+      p = it->second;
+      n = it->first;
+      m_free.erase(it);
+    } else {
+      cudaCheck(cudaMalloc(&p, static_cast<std::size_t>(n)), "thrust temporary storage");
+    }
+    m_used.emplace(p, n);
+    return p;
+  }
+  void deallocate(char* p, std::size_t) {
+    auto it = m_used.find(p);
+    if (it == m_used.end()) return;
+    m_free.emplace(it->second, p);
+    m_used.erase(it);
+  }
+
+ private:
+  std::multimap<std::ptrdiff_t, char*> m_free;  // size -> block
+  std::map<char*, std::ptrdiff_t> m_used;       // block -> size
+};
+
+inline ThrustTempCache& thrustTempCache() {
+  static ThrustTempCache cache;
+  return cache;
+}
+
+// The execution policy of every thrust call: the device, temporaries from the cache.
+inline auto thrustPolicy() { return thrust::cuda::par(thrustTempCache()); }
+
 template <class R, class F>
 R reduceSum(Cuda, int n, const F& f) {
-  return thrust::transform_reduce(thrust::device, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f,
-                                  R(0), thrust::plus<R>());
+  return thrust::transform_reduce(thrustPolicy(), thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n),
+                                  f, R(0), thrust::plus<R>());
 }
 
 template <class R, class F>
 R reduceMax(Cuda, int n, R init, const F& f) {
-  return thrust::transform_reduce(thrust::device, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f,
-                                  init, MaxKeepNan());
+  return thrust::transform_reduce(thrustPolicy(), thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n),
+                                  f, init, MaxKeepNan());
 }
 
 inline void sortByKey(Cuda, int* keys, int* values, int n, int /*key_count*/, std::vector<int>& /*scratch*/) {
-  thrust::stable_sort_by_key(thrust::device, keys, keys + n, values);
+  thrust::stable_sort_by_key(thrustPolicy(), keys, keys + n, values);
+}
+
+// Cell offsets of sorted keys (neighbors/cell_list.hpp): offsets[k] = first slot whose key is
+// >= k, for k in [0, cells], one binary search per cell; the generic version writes each run of
+// empty cells from one thread, which on a GPU serialises a sparse grid's margins.
+inline void cellOffsets(Cuda, const int* sorted_keys, int n, int cells, int* offsets) {
+  thrust::lower_bound(thrustPolicy(), sorted_keys, sorted_keys + n, thrust::counting_iterator<int>(0),
+                      thrust::counting_iterator<int>(cells + 1), offsets);
+  cudaCheck(cudaGetLastError(), "cell offsets");
 }
 
 // out[i] = in[0] + .. + in[i - 1] for i in [0, n]; returns the total out[n].
 inline int exclusiveScan(Cuda, const int* in, int* out, int n) {
   int total = 0;
   if (n > 0) {
-    thrust::exclusive_scan(thrust::device, in, in + n, out);
+    thrust::exclusive_scan(thrustPolicy(), in, in + n, out);
     int last[2];
     cudaCheck(cudaMemcpy(&last[0], out + n - 1, sizeof(int), cudaMemcpyDeviceToHost), "scan total");
     cudaCheck(cudaMemcpy(&last[1], in + n - 1, sizeof(int), cudaMemcpyDeviceToHost), "scan total");
