@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "coupling/sph_dem_coupling.hpp"
 #include "dem/dem_engine.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
@@ -29,7 +30,6 @@
 #include "millsim/sim/simulation.hpp"
 #include "millsim/vision/slurry_surface.hpp"
 #include "sim/drum_motion.hpp"
-#include "coupling/sph_dem_coupling.hpp"
 #include "sph/sph_engine.hpp"
 
 namespace millsim::sim {
@@ -53,6 +53,7 @@ class WetMill {
   void finish(const std::filesystem::path& out, RunSummary& summary, bool write);
 
   sph::SphSums sums() const { return m_engine->sums(); }
+  void getFluidState(sph::SphHostState& s) const { m_engine->getState(s); }  // fluid, walls and shells
   std::map<std::string, std::size_t> memoryBytes() const { return m_engine->memoryBytes(); }
   std::vector<std::string> stages() const;
   std::size_t particles() const { return m_particles; }
@@ -72,7 +73,7 @@ class WetMill {
   std::size_t m_particles = 0, m_balls = 0;
   long long m_fluid0 = 0, m_steps = 0;
   double m_phi0 = 0, m_t0 = 0;
-  double m_hswl = 0;  // still-water height of the pour (sets c0)
+  double m_hswl = 0;                            // still-water height of the pour (sets c0)
   std::vector<vision::SurfacePoint> m_surface;  // per frame, highest fluid per x bin (mm)
   int m_frames = 0;
   bool m_curve_valid = false;

@@ -16,12 +16,14 @@
 
 namespace millsim::testing {
 
-// cases/minimal_drum.xml of the tree the test runs in (MILLSIM_SOURCE_DIR from the environment
-// on a copied tree, e.g. the GPU machine).
-inline std::string minimalDrumCase() {
+// cases/NAME.xml of the tree the test runs in (MILLSIM_SOURCE_DIR from the environment on a
+// copied tree, e.g. the GPU machine).
+inline std::string sourceCase(const std::string& name) {
   const char* env = std::getenv("MILLSIM_SOURCE_DIR");
-  return std::string(env ? env : MILLSIM_SOURCE_DIR) + "/cases/minimal_drum.xml";
+  return std::string(env ? env : MILLSIM_SOURCE_DIR) + "/cases/" + name + ".xml";
 }
+
+inline std::string minimalDrumCase() { return sourceCase("minimal_drum"); }
 
 inline std::vector<std::vector<std::string>> ensembleTestDrums() {
   const std::vector<std::string> common{"time.end=0.12", "compaction.duration=0.05", "drum.start_time=0.05",
