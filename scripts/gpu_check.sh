@@ -35,7 +35,7 @@ status=0
   tee -a "$out/machine.txt"
 
 echo "== GPU tests (CUDA vs OpenMP; MILLSIM_CUDA_SYNC=1: a fault names its kernel)"
-MILLSIM_CUDA_SYNC=1 OMP_NUM_THREADS=$threads timeout "${TESTS_S:-150}" build/tests/millsim_gpu_tests \
+MILLSIM_CUDA_SYNC=1 OMP_NUM_THREADS=$threads timeout "${TESTS_S:-200}" build/tests/millsim_gpu_tests \
   --gtest_output="json:$out/gpu_tests.json" 2>&1 | tee "$out/gpu_tests.txt" | grep -E '^\[|^T = |drift|Z/a|Skipped|device'
 # On the GPU machine a skipped GPU test is a failure (the skip message says why: driver, no device).
 if grep -q '^\[  SKIPPED \]' "$out/gpu_tests.txt"; then
@@ -50,15 +50,15 @@ bench() {  # name, seconds, filter, extra env
   env OMP_NUM_THREADS="$threads" "$@" timeout "$secs" build/bench/millsim_bench --benchmark_filter="$filter" \
     --benchmark_out="$out/bench_$name.json" --benchmark_out_format=json 2>&1 | grep -vE '^\*\*\*' | tail -n 20
 }
-bench dem "${DEM_S:-90}" 'BM_DemScaling'
-bench sph_double "${SPH_S:-100}" 'BM_SphScaling3d'
-bench sph_float "${SPH_F_S:-80}" 'BM_SphScaling3d/.*/1' MILLSIM_BENCH_FLOAT=1
+bench dem "${DEM_S:-80}" 'BM_DemScaling'
+bench sph_double "${SPH_S:-90}" 'BM_SphScaling3d'
+bench sph_float "${SPH_F_S:-70}" 'BM_SphScaling3d/.*/1' MILLSIM_BENCH_FLOAT=1
 # Issue 10, Done-when 4: 18 drums (6 candidates x 300/400/500 mm) as one ensemble against the
 # 300 mm drum alone, 2 s simulated each, on the GPU (the CPU side is in docs/performance.md).
-bench ensemble "${ENS_S:-100}" 'BM_DrumEnsemble/./1' MILLSIM_ENSEMBLE_T="${ENSEMBLE_T:-2}"
+bench ensemble "${ENS_S:-90}" 'BM_DrumEnsemble/./1' MILLSIM_ENSEMBLE_T="${ENSEMBLE_T:-2}"
 # The paper's wet mill scaled to N particles (bench/bench_coupled.cpp); not the 195 329 of the
 # case itself, measured on the CPU (docs/performance.md).
-bench coupled "${COUPLED_S:-60}" 'BM_CoupledScaling/[0-9]*0/'
+bench coupled "${COUPLED_S:-50}" 'BM_CoupledScaling/[0-9]*0/'
 
 python3 - "$out" <<'EOF' | tee "$out/summary.txt"
 import glob, json, os, sys

@@ -1,6 +1,7 @@
 #pragma once
 // Runs a shipped case through Simulation (the code path of `millsim run`) into a fresh
 // directory and reads back what it wrote: series.csv by column, and summary.json.
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -35,15 +36,19 @@ inline std::map<std::string, std::vector<double>> readSeries(const std::filesyst
   return cols;
 }
 
+// backend: "omp" or "cuda" (tests/gpu). The case comes from MILLSIM_SOURCE_DIR in the environment
+// when set (a copied tree, e.g. on the GPU machine), else from the tree the test was built in.
 inline CaseOutput runCase(const std::string& case_name, const std::vector<std::string>& overrides,
-                          const std::string& out_name, int threads = 1, const std::string& precision = "double") {
-  const auto path = std::filesystem::path(MILLSIM_SOURCE_DIR) / "cases" / (case_name + ".xml");
+                          const std::string& out_name, int threads = 1, const std::string& precision = "double",
+                          const std::string& backend = "omp") {
+  const char* env = std::getenv("MILLSIM_SOURCE_DIR");
+  const auto path = std::filesystem::path(env ? env : MILLSIM_SOURCE_DIR) / "cases" / (case_name + ".xml");
   const auto out = std::filesystem::temp_directory_path() / ("millsim_test_" + out_name);
   std::filesystem::remove_all(out);
   sim::RunOptions opt;
   opt.out_dir = out.string();
   opt.threads = threads;
-  opt.backend = "omp";
+  opt.backend = backend;
   opt.precision = precision;
   sim::Simulation simulation(io::loadCaseFile(path.string(), overrides), opt);
   simulation.run();
