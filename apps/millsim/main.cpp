@@ -451,7 +451,7 @@ int runMain(int argc, char** argv) {
                        " MPI ranks: only `calibrate` and `sweep` spread their runs over ranks; run this command as "
                        "one process");
     if (run->parsed()) {
-      opt.progress = !quiet && isatty(STDERR_FILENO);
+      opt.progress = !quiet;  // a line in place on a terminal, a line a minute into a log
       return runCommand(case_path, sets, opt);
     }
     if (validate->parsed()) {

@@ -1,6 +1,10 @@
 #include "sim/run_outputs.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -143,8 +147,24 @@ io::FieldFrame demFieldFrame(double t, long long step, const dem::DemHostState& 
   return f;
 }
 
-ProgressLine::ProgressLine(bool enabled, double t_end) : m_enabled(enabled), m_t_end(t_end) {
+ProgressLine::ProgressLine(bool enabled, double t_end)
+    : m_enabled(enabled), m_terminal(enabled && isatty(STDERR_FILENO)), m_t_end(t_end) {
   m_start = m_last = std::chrono::steady_clock::now();
+}
+
+std::string progressText(double t, double t_end, double steps_per_s, double eta_s) {
+  char eta[32] = "--";
+  if (eta_s > 0 && std::isfinite(eta_s)) {
+    const long long e = std::llround(eta_s);
+    if (e >= 3600)
+      std::snprintf(eta, sizeof eta, "%lld:%02lld:%02lld", e / 3600, e / 60 % 60, e % 60);
+    else
+      std::snprintf(eta, sizeof eta, "%lld:%02lld", e / 60, e % 60);
+  }
+  char line[160];
+  std::snprintf(line, sizeof line, " t = %.3f / %.3f s  %3.0f%%  %.0f steps/s  ETA %s", t, t_end,
+                100 * t / std::max(1e-300, t_end), steps_per_s, eta);
+  return line;
 }
 
 void ProgressLine::update(double t, long long steps) {
@@ -154,20 +174,22 @@ void ProgressLine::update(double t, long long steps) {
     m_t_start = t;
     m_steps_start = steps;
   }
-  if (std::chrono::duration<double>(now - m_last).count() < 0.5) return;
+  if (std::chrono::duration<double>(now - m_last).count() < (m_terminal ? 0.5 : 60.0)) return;
   m_last = now;
   const double wall = std::chrono::duration<double>(now - m_start).count();
   const double rate = wall > 0 ? (steps - m_steps_start) / wall : 0;
   const double frac = (t - m_t_start) / std::max(1e-12, m_t_end - m_t_start);
   const double eta = frac > 0 ? wall * (1 - frac) / frac : 0;
-  const int em = static_cast<int>(eta) / 60, es = static_cast<int>(eta) % 60;
-  std::fprintf(stderr, "\r t = %.3f / %.3f s  %3.0f%%  %.0f steps/s  ETA %d:%02d   ", t, m_t_end, 100 * t / m_t_end,
-               rate, em, es);
+  const std::string text = progressText(t, m_t_end, rate, eta);
+  if (m_terminal)
+    std::fprintf(stderr, "\r%s   ", text.c_str());
+  else
+    std::fprintf(stderr, "progress:%s\n", text.c_str());
   std::fflush(stderr);
 }
 
 void ProgressLine::finish() {
-  if (m_enabled) std::fprintf(stderr, "\n");
+  if (m_terminal) std::fprintf(stderr, "\n");
 }
 
 }  // namespace millsim::sim

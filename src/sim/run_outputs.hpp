@@ -55,7 +55,9 @@ void recordFailedRun(RunSummary& s, const std::string& error, double t, long lon
 // The DEM energy state of the summary (kinetic, potential, dissipated, wall work, elastic).
 void fillDemEnergy(RunSummary& s, double kinetic, double potential, double dissipated, double work_in, double elastic);
 
-// "\r t = 3.20 / 12.00 s  27%  41200 steps/s  ETA 0:21" on stderr, at most every 0.5 s.
+// Progress of a run on stderr. On a terminal one line rewritten in place at most every 0.5 s:
+// "\r t = 3.200 / 12.000 s   27%  41200 steps/s  ETA 21:05"; into a file or pipe (nohup, a batch
+// job's log) a new line every 60 s, so an hours-long run shows it is alive and when it will end.
 class ProgressLine {
  public:
   ProgressLine(bool enabled, double t_end);
@@ -64,10 +66,15 @@ class ProgressLine {
 
  private:
   bool m_enabled;
+  bool m_terminal;
   double m_t_end;
   std::chrono::steady_clock::time_point m_start, m_last;
   double m_t_start = -1;
   long long m_steps_start = 0;
 };
+
+// " t = 3.200 / 12.000 s   27%  41200 steps/s  ETA 21:05" (ETA as m:ss below an hour, h:mm:ss
+// above; "--" until the run has moved).
+std::string progressText(double t, double t_end, double steps_per_s, double eta_s);
 
 }  // namespace millsim::sim
