@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -47,8 +48,7 @@ class Array<Cuda, T> {
     release();
     m_size = n;
     if (n) cudaCheck(cudaMalloc(&m_ptr, n * sizeof(T)), "cudaMalloc");
-    std::vector<T> host(n, fill);
-    copyFromHost(host);
+    this->fill(fill);
   }
   std::size_t size() const { return m_size; }
   std::size_t bytes() const { return m_size * sizeof(T); }
@@ -66,7 +66,19 @@ class Array<Cuda, T> {
     dst.resize(m_size);
     if (m_size) cudaCheck(cudaMemcpy(dst.data(), m_ptr, m_size * sizeof(T), cudaMemcpyDeviceToHost), "copy to host");
   }
-  void fill(T value) { copyFromHost(std::vector<T>(m_size, value)); }
+  // A value whose bytes are all zero (every T{} the solvers use) is set on the device; anything
+  // else goes through a host copy (a 1e7-particle grid's offsets would be 0.5 GB of it).
+  void fill(T value) {
+    if (!m_size) return;
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    bool zero = true;
+    for (unsigned char b : bytes) zero = zero && b == 0;
+    if (zero)
+      cudaCheck(cudaMemset(m_ptr, 0, m_size * sizeof(T)), "cudaMemset");
+    else
+      copyFromHost(std::vector<T>(m_size, value));
+  }
   void swap(Array& other) noexcept {
     std::swap(m_ptr, other.m_ptr);
     std::swap(m_size, other.m_size);
