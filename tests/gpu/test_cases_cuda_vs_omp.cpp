@@ -15,8 +15,8 @@
 #include <cstdio>
 #include <string>
 
-#include "millsim/backend/info.hpp"
 #include "support/case_parity.hpp"
+#include "support/cuda_skip.hpp"
 
 using namespace millsim;
 
@@ -25,11 +25,7 @@ namespace {
 class EveryCase : public ::testing::TestWithParam<millsim::testing::CaseStretch> {};
 
 TEST_P(EveryCase, CudaMatchesOpenMp) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0)
-    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
   const millsim::testing::CaseStretch& c = GetParam();
   const auto omp = millsim::testing::runCase(c.name, c.overrides, "parity_omp", 0, "double", "omp");
   const auto cuda = millsim::testing::runCase(c.name, c.overrides, "parity_cuda", 0, "double", "cuda");
@@ -39,7 +35,6 @@ TEST_P(EveryCase, CudaMatchesOpenMp) {
   std::printf("%s: %zu rows, largest difference %.3g (%s)\n", c.name.c_str(), d.rows, d.relative, d.column.c_str());
   EXPECT_GT(d.rows, 4u);
   EXPECT_LT(d.relative, 1e-6) << c.name << ": column " << d.column;
-#endif
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, EveryCase, ::testing::ValuesIn(millsim::testing::everyCaseStretch()),

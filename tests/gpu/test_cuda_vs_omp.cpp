@@ -10,6 +10,7 @@
 #include "dem/dem_engine.hpp"
 #include "dem/dem_kernels.hpp"
 #include "millsim/backend/info.hpp"
+#include "support/cuda_skip.hpp"
 
 using namespace millsim;
 
@@ -35,10 +36,8 @@ namespace {
 }  // namespace
 
 TEST(CudaVsOmp, SameStateAfterSettlingInRotatingDrum) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
+#if defined(MILLSIM_HAVE_CUDA)
   dem::DemSetup setup;
   setup.k_coef = 4.0 / 3.0 * dem::effectiveModulus(1e8, 0.29);
   setup.alpha = dem::dampingAlpha(dem::DampingModel::kExact, 0.39);
@@ -92,10 +91,8 @@ TEST(CudaVsOmp, SameStateAfterSettlingInRotatingDrum) {
 // The stirred mill's instantiation (linear law, stirrer walls, lubrication and collision tallies)
 // on both backends: 300 beads of 2 mm around a turning disk, 2000 steps at 3000 rpm, eta 0.5.
 TEST(CudaVsOmp, SameStateInLubricatedStirredSlice) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0) GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
+#if defined(MILLSIM_HAVE_CUDA)
   dem::DemSetup setup;
   setup.linear_law = true;
   setup.linear_kn = 1e5;

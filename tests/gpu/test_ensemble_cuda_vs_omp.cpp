@@ -16,6 +16,7 @@
 #include "millsim/backend/info.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/ensemble_run.hpp"
+#include "support/cuda_skip.hpp"
 #include "support/ensemble_cases.hpp"
 
 using namespace millsim;
@@ -39,11 +40,8 @@ namespace {
 }  // namespace
 
 TEST(CudaVsOmp, EnsembleOfThreeDrumsMatchesOpenMp) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0)
-    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
+#if defined(MILLSIM_HAVE_CUDA)
   const std::vector<sim::RunSummary> omp = runOn("omp"), cuda = runOn("cuda");
   ASSERT_EQ(cuda.size(), omp.size());
   for (std::size_t k = 0; k < omp.size(); ++k) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "millsim/backend/info.hpp"
+#include "support/cuda_skip.hpp"
 #include "support/linear_wall_flow.hpp"
 #include "support/momentum_box.hpp"
 #include "support/sph_fixture.hpp"
@@ -51,12 +52,9 @@ namespace {
 
 // Issue 4, Done-when 5: the front position on the GPU within 1% of OpenMP's.
 static void expectFrontsAgree(const char* boundary) {
-#if !defined(MILLSIM_HAVE_CUDA)
   (void)boundary;
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0)
-    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
+#if defined(MILLSIM_HAVE_CUDA)
   const std::vector<double> omp = damBreakFront(false, boundary), cuda = damBreakFront(true, boundary);
   for (std::size_t k = 0; k < omp.size(); ++k) {
     std::printf("%s, T = %.1f: Z/a OpenMP %.4f, CUDA %.4f\n", boundary, 0.5 * double(k + 1), omp[k], cuda[k]);
@@ -75,11 +73,8 @@ TEST(SphCudaVsOmp, DamBreak2dMdbcFrontWithinOnePercent) { expectFrontsAgree("mdb
 // closes it to 1.5e-14, the GPU's atomics and FMA change only the rounding), and the fluid and the
 // walls take the same shares of it as on OpenMP within 1%.
 TEST(SphCudaVsOmp, WetCouplingMomentumClosedBox) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0)
-    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
+#if defined(MILLSIM_HAVE_CUDA)
   for (const char* integrator : {"verlet", "symplectic"}) {
     const millsim::testing::MomentumRun omp = millsim::testing::runBox(integrator, false, false);
     const millsim::testing::MomentumRun cuda = millsim::testing::runBox(integrator, false, true);
@@ -97,11 +92,8 @@ TEST(SphCudaVsOmp, WetCouplingMomentumClosedBox) {
 // a turning tank is held to round-off after a step, as on OpenMP (tests/unit/test_sph_mdbc.cpp:
 // 2.8e-11 of dt nu gamma / dp; Adami's no_slip 2.9).
 TEST(SphCudaVsOmp, NoSlipGhostHoldsARigidRotation) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0)
-    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
+#if defined(MILLSIM_HAVE_CUDA)
   const double cuda = millsim::testing::linearWallFlowChange("no_slip_ghost", true, true);
   std::printf("rigid rotation, CUDA, velocity change / (dt nu gamma / dp): %.3g\n", cuda);
   EXPECT_LT(cuda, 1e-9);

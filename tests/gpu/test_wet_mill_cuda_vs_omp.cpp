@@ -20,7 +20,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "millsim/backend/info.hpp"
+#include "support/cuda_skip.hpp"
 #include "support/ensemble_cases.hpp"
 #include "support/wet_pour.hpp"
 
@@ -31,11 +31,7 @@ constexpr double kBallBound = 1e-9, kFluidRmsBound = 1e-9, kFluidMaxBound = 1e-6
 }  // namespace
 
 TEST(WetMillCudaVsOmp, PourAndCoupledStepsAgree) {
-#if !defined(MILLSIM_HAVE_CUDA)
-  GTEST_SKIP() << "CUDA backend not built (MILLSIM_CUDA=OFF or no nvcc): nothing to compare";
-#else
-  if (backend::cudaDevices() == 0)
-    GTEST_SKIP() << "no CUDA device on this machine (" << backend::cudaStatus() << "): GPU comparison skipped";
+  MILLSIM_SKIP_WITHOUT_CUDA();
   const millsim::testing::PackedCharge packed = millsim::testing::packCharge(
       millsim::testing::sourceCase("wet_drum_small"), {"output.fields_every=0", "output.checkpoint_every=0"});
   constexpr int kSteps = 200;
@@ -64,5 +60,4 @@ TEST(WetMillCudaVsOmp, PourAndCoupledStepsAgree) {
   EXPECT_LT(fluid_max, kFluidMaxBound);
   EXPECT_LT(ke_fluid, kEnergyBound);
   EXPECT_LT(ke_balls, kEnergyBound);
-#endif
 }
