@@ -6,6 +6,7 @@
 // below ends before that. Outputs that only cost time (fields, checkpoints, frames) are off.
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct CaseStretch {
   std::string name;
   std::vector<std::string> overrides;
 };
+
+// gtest names a parameter by it (instead of dumping its bytes).
+inline void PrintTo(const CaseStretch& c, std::ostream* os) { *os << c.name; }
 
 inline std::vector<CaseStretch> everyCaseStretch() {
   const std::vector<std::string> quiet{"output.fields_every=0", "output.checkpoint_every=0"};
