@@ -37,4 +37,15 @@ inline bool backendAvailable(benchmark::State& state, bool cuda) {
   return false;
 }
 
+// Issue 10's scaling points as (N, backend) pairs, backend 0 OpenMP and 1 CUDA: N = 1e4 and 1e5
+// on both, and 1e6 on both with 1e7 on CUDA (registered apart: fewer iterations). Each scaling
+// benchmark runs a fixed number of iterations per N, so every backend and thread count times
+// the same stretch of the motion.
+inline void smallScalingArgs(benchmark::internal::Benchmark* b) {
+  b->Args({10000, 0})->Args({100000, 0})->Args({10000, 1})->Args({100000, 1});
+}
+inline void largeScalingArgs(benchmark::internal::Benchmark* b) {
+  b->Args({1000000, 0})->Args({1000000, 1})->Args({10000000, 1});
+}
+
 }  // namespace millsim::bench

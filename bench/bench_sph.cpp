@@ -38,7 +38,8 @@ static void runSteps(benchmark::State& state, const std::string& case_name, cons
   state.counters["fluid"] = double(fluid);
   state.counters["particle_steps_per_s"] =
       benchmark::Counter(double(particles.size()), benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["fluid_steps_per_s"] = benchmark::Counter(double(fluid), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["fluid_steps_per_s"] =
+      benchmark::Counter(double(fluid), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["interactions_per_s"] = benchmark::Counter(pairs, benchmark::Counter::kIsIterationInvariantRate);
 }
 
@@ -68,17 +69,8 @@ BENCHMARK(BM_SphDamBreak3d)->Unit(benchmark::kMillisecond)->Iterations(40)->UseR
 BENCHMARK(BM_SphDamBreak3dFine)->Unit(benchmark::kMillisecond)->Iterations(10)->UseRealTime();
 // A fixed number of steps per N (the same stretch of the flow on every backend and thread count).
 BENCHMARK(BM_SphScaling3d)
-    ->Args({10000, 0})
-    ->Args({100000, 0})
-    ->Args({10000, 1})
-    ->Args({100000, 1})
+    ->Apply(bench::smallScalingArgs)
     ->Iterations(20)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_SphScaling3d)
-    ->Args({1000000, 0})
-    ->Args({1000000, 1})
-    ->Args({10000000, 1})
-    ->Iterations(3)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_SphScaling3d)->Apply(bench::largeScalingArgs)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
