@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Every GPU check in one pass, for a lent GPU machine (issue 10; device time is short, so this is
 # prepared and tried here first, where the GPU parts skip):
-#   1. millsim_gpu_tests: CUDA against OpenMP (DEM drum, stirred slice, SPH dam break front,
-#      SPH-DEM momentum budget),
+#   1. millsim_gpu_tests: CUDA against OpenMP (DEM drum, stirred slice, ensemble, SPH dam break
+#      front, SPH-DEM momentum budget, the wet mill's pour and coupled steps, and every case in
+#      cases/ over a short stretch),
 #   2. millsim_bench: DEM and SPH throughput at N = 1e4 .. 1e6 on both backends and 1e7 on the
 #      GPU (BM_DemScaling, BM_SphScaling3d; SPH in double and float), JSON per run;
 #   3. millsim_bench: an ensemble of 18 drums against one drum on the GPU (BM_DrumEnsemble);
@@ -36,7 +37,7 @@ status=0
 
 echo "== GPU tests (CUDA vs OpenMP; MILLSIM_CUDA_SYNC=1: a fault names its kernel)"
 MILLSIM_CUDA_SYNC=1 OMP_NUM_THREADS=$threads timeout "${TESTS_S:-200}" build/tests/millsim_gpu_tests \
-  --gtest_output="json:$out/gpu_tests.json" 2>&1 | tee "$out/gpu_tests.txt" | grep -E '^\[|^T = |drift|Z/a|Skipped|device'
+  --gtest_output="json:$out/gpu_tests.json" 2>&1 | tee "$out/gpu_tests.txt" | grep -E '^\[|^T = |drift|Z/a|Skipped|device|coupled steps|largest difference'
 # On the GPU machine a skipped GPU test is a failure (the skip message says why: driver, no device).
 if grep -q '^\[  SKIPPED \]' "$out/gpu_tests.txt"; then
   echo "!! GPU tests were SKIPPED: no usable CUDA device (see the skip message above)" | tee -a "$out/gpu_tests.txt"
