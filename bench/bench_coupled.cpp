@@ -72,9 +72,7 @@ static void BM_CoupledWetMill(benchmark::State& state) {
   dem->initialize(motion.at(t, phi));
   long long dem_steps = 0;
   while (t < sc.drum.start_time - 0.5 * dt) {  // compaction: the piston packs the balls
-    phi += motion.omega(t + dt) * dt;
-    dem->step(motion.at(t + dt, phi), dt);
-    t += dt;
+    motion.stepDem(*dem, t, phi, dt);
     ++dem_steps;
   }
   sim::WetMill wet(sc, options, dem::ballStates(*dem), phi, t);

@@ -53,6 +53,14 @@ class DrumMotion {
   }
   double fullOmega() const { return m_omega_full; }
 
+  // One DEM step of dt with the walls where they are at its end: the drum turned by the speed at
+  // t + dt, the piston moved. Advances t and phi (every drum run steps this way).
+  void stepDem(dem::DemEngine& dem, double& t, double& phi, double dt) const {
+    phi += omega(t + dt) * dt;
+    dem.step(at(t + dt, phi), dt);
+    t += dt;
+  }
+
  private:
   const scene::Scene& m_scene;
   double m_gen_length;

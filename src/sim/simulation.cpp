@@ -18,10 +18,10 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/vision/front_view_angle.hpp"
-#include "sim/engine_factory.hpp"
 #include "sim/charge_setup.hpp"
 #include "sim/drum_motion.hpp"
 #include "sim/drum_setup.hpp"
+#include "sim/engine_factory.hpp"
 #include "sim/run_outputs.hpp"
 #include "sim/sph_run.hpp"
 #include "sim/stirred_run.hpp"
@@ -61,7 +61,8 @@ struct Simulation::Impl {
     charge = buildCharge(scene);
     const double rpm = drumSpeedRpm(scene, charge);
     motion = std::make_unique<DrumMotion>(scene, charge.generation_length, rpm);
-    if (scene.angle.enabled) angle = std::make_unique<vision::FrontViewAngle>(scene.drum.diameter, drumAngleOptions(scene));
+    if (scene.angle.enabled)
+      angle = std::make_unique<vision::FrontViewAngle>(scene.drum.diameter, drumAngleOptions(scene));
     dt = drumTimeStep(scene, charge);
     engine = makeEngine();
     dcdem = scene.dem.representation == "dcdem";
@@ -177,9 +178,7 @@ void Simulation::Impl::run() {
       if (wet) {
         wet->advance(*engine, *motion, t, phi, step, dt);
       } else {
-        phi += motion->omega(t + dt) * dt;
-        engine->step(motion->at(t + dt, phi), dt);
-        t += dt;
+        motion->stepDem(*engine, t, phi, dt);
         ++step;
       }
       progress.update(t, step);
@@ -305,7 +304,8 @@ void Simulation::Impl::restoreCheckpoint() {
   // A wet mill past its pour continues with the slurry of the checkpoint (one written before
   // the pour has none: the slurry is poured when the drum starts, as in a fresh run).
   if (scene.effect_sph && WetMill::inCheckpoint(cp)) {
-    wet = std::make_unique<WetMill>(scene, options, cp, dem::ballStates(*engine), phi, motion->omega(t), options.restart);
+    wet =
+        std::make_unique<WetMill>(scene, options, cp, dem::ballStates(*engine), phi, motion->omega(t), options.restart);
   } else if (scene.effect_sph && t >= scene.drum.start_time - 0.5 * dt) {
     throw core::InputError(options.restart + ": checkpoint at t = " + std::to_string(t) +
                            " s, after the slurry's pour, holds no slurry (written by a balls-only case?)");

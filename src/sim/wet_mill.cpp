@@ -245,9 +245,7 @@ void WetMill::advance(dem::DemEngine& dem, const DrumMotion& motion, double& t, 
     const int sub = std::max(1, static_cast<int>(std::ceil(dt / dt_dem - 1e-9)));
     const double h = dt / sub;
     for (int k = 0; k < sub; ++k) {
-      phi += motion.omega(t + h) * h;
-      dem.step(motion.at(t + h, phi), h);
-      t += h;
+      motion.stepDem(dem, t, phi, h);
       ++dem_steps;
     }
     return motionAt(phi, motion.omega(t));

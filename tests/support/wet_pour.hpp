@@ -42,9 +42,7 @@ inline PackedCharge packCharge(const std::string& case_file, const std::vector<s
   dem->setState(p.charge.state);
   dem->initialize(motion.at(0, 0));
   while (p.t < p.scene.drum.start_time - 0.5 * dt) {
-    p.phi += motion.omega(p.t + dt) * dt;
-    dem->step(motion.at(p.t + dt, p.phi), dt);
-    p.t += dt;
+    motion.stepDem(*dem, p.t, p.phi, dt);
   }
   p.balls = dem::ballStates(*dem);
   return p;
