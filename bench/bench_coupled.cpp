@@ -93,7 +93,7 @@ BENCHMARK(BM_CoupledWetMill)
     ->Name("BM_CoupledScaling")
     ->Apply(bench::smallScalingArgs)
     ->Args({195329, 0})
-    ->Iterations(20)
+    ->Iterations(100)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_CoupledWetMill)

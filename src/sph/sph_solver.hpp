@@ -464,9 +464,9 @@ class SphSolver final : public SphEngine {
     loads.resize(static_cast<std::size_t>(m_bodies));
     if (m_bodies == 0) return loads;
     // Summed where the particles live; only the per-body totals come back.
-    backend::parallelFor(Space{}, m_bodies,
-                         BodyLoadSum<T>{m_body_start.data(), m_body_members.data(), m_slot_of.data(), m_ace.data(),
-                                        m_offset.data(), m_mass, m_load_force.data(), m_load_torque.data()});
+    backend::parallelForWork(Space{}, m_bodies, static_cast<long long>(m_body_members.size()),
+                             BodyLoadSum<T>{m_body_start.data(), m_body_members.data(), m_slot_of.data(), m_ace.data(),
+                                            m_offset.data(), m_mass, m_load_force.data(), m_load_torque.data()});
     m_load_force.copyToHost(m_host_load_force);
     m_load_torque.copyToHost(m_host_load_torque);
     for (std::size_t k = 0; k < loads.size(); ++k) {

@@ -76,6 +76,19 @@ void parallelFor(Omp, int n, const F& f) {
   for (int i = 0; i < n; ++i) f(i);
 }
 
+// parallelFor over n items that hold `work` inner iterations between them (bodies, each summing
+// its particles): the threshold applies to the work, so a few hundred balls with a hundred shell
+// particles each are shared out. Other spaces: their parallelFor (found by ADL).
+template <class F>
+void parallelForWork(Omp, int n, long long work, const F& f) {
+#pragma omp parallel for schedule(static) if (work >= kOmpParallelThreshold && n > 1)
+  for (int i = 0; i < n; ++i) f(i);
+}
+template <class Space, class F>
+void parallelForWork(Space space, int n, long long /*work*/, const F& f) {
+  parallelFor(space, n, f);
+}
+
 // Sum of f(i) over [0, n). Accumulated in the result type (double for energies).
 template <class R, class F>
 R reduceSum(Omp, int n, const F& f) {
@@ -106,21 +119,77 @@ R reduceMax(Omp, int n, R init, const F& f) {
 }
 
 // Stable sort of (key, value) pairs by key. Counting sort: keys are cell indices in [0, key_count),
-// so this is O(n + key_count) and needs no comparison sort.
+// so this is O(n + key_count) and needs no comparison sort. On T threads (n above the threshold)
+// thread t counts its contiguous part of the input in its own row, each thread turns a range of
+// keys into offsets (key by key, thread rows in order), and thread t scatters its part from its
+// row: equal keys keep their input order, so the result is the serial sort's, whatever T.
+// scratch: the sorted keys and values (n each), T rows of key_count counts, T range totals.
 inline void sortByKey(Omp, int* keys, int* values, int n, int key_count, std::vector<int>& scratch) {
-  scratch.assign(static_cast<std::size_t>(key_count) + 1 + 2 * static_cast<std::size_t>(n), 0);
-  int* count = scratch.data();
-  int* out_keys = count + key_count + 1;
+  int threads = 1;
+#ifdef _OPENMP
+  if (n >= kOmpParallelThreshold) threads = omp_get_max_threads();
+#endif
+  const std::size_t row_ints = static_cast<std::size_t>(threads) * static_cast<std::size_t>(key_count);
+  const std::size_t need = 2 * static_cast<std::size_t>(n) + row_ints + static_cast<std::size_t>(threads);
+  if (scratch.size() < need) scratch.resize(need);  // grows only: no allocation once sized
+  int* out_keys = scratch.data();
   int* out_values = out_keys + n;
-  for (int i = 0; i < n; ++i) ++count[keys[i] + 1];
-  for (int k = 0; k < key_count; ++k) count[k + 1] += count[k];
-  for (int i = 0; i < n; ++i) {
-    const int slot = count[keys[i]]++;
-    out_keys[slot] = keys[i];
-    out_values[slot] = values[i];
+  int* rows = out_values + n;
+  int* range_total = rows + row_ints;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(threads) if (threads > 1)
+#endif
+  {
+#ifdef _OPENMP
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+#else
+    const int t = 0, team = 1;
+#endif
+    // Input part and key range of team member t (team may be smaller than threads: OMP_DYNAMIC).
+    const auto part = [](int total, int parts, int k) {
+      return static_cast<int>(static_cast<long long>(total) * k / parts);
+    };
+    const int i0 = part(n, team, t), i1 = part(n, team, t + 1);
+    const int k0 = part(key_count, team, t), k1 = part(key_count, team, t + 1);
+    int* own = rows + static_cast<std::size_t>(t) * key_count;
+    std::fill(own, own + key_count, 0);
+    for (int i = i0; i < i1; ++i) ++own[keys[i]];
+#ifdef _OPENMP
+#pragma omp barrier
+#endif
+    int running = 0;
+    for (int k = k0; k < k1; ++k) {
+      for (int r = 0; r < team; ++r) {
+        int& c = rows[static_cast<std::size_t>(r) * key_count + k];
+        const int count = c;
+        c = running;
+        running += count;
+      }
+    }
+    range_total[t] = running;
+#ifdef _OPENMP
+#pragma omp barrier
+#endif
+    int base = 0;
+    for (int r = 0; r < t; ++r) base += range_total[r];
+    for (int r = 0; r < team && base != 0; ++r) {
+      int* row = rows + static_cast<std::size_t>(r) * key_count;
+      for (int k = k0; k < k1; ++k) row[k] += base;
+    }
+#ifdef _OPENMP
+#pragma omp barrier
+#endif
+    for (int i = i0; i < i1; ++i) {
+      const int slot = own[keys[i]]++;
+      out_keys[slot] = keys[i];
+      out_values[slot] = values[i];
+    }
+#ifdef _OPENMP
+#pragma omp barrier
+#endif
+    std::copy(out_keys + i0, out_keys + i1, keys + i0);
+    std::copy(out_values + i0, out_values + i1, values + i0);
   }
-  std::copy(out_keys, out_keys + n, keys);
-  std::copy(out_values, out_values + n, values);
 }
 
 // out[i] = in[0] + .. + in[i - 1] for i in [0, n]; returns the total out[n]. Serial: it runs at
