@@ -119,15 +119,18 @@ R reduceMax(Omp, int n, R init, const F& f) {
 }
 
 // Stable sort of (key, value) pairs by key. Counting sort: keys are cell indices in [0, key_count),
-// so this is O(n + key_count) and needs no comparison sort. On T threads (n above the threshold)
-// thread t counts its contiguous part of the input in its own row, each thread turns a range of
-// keys into offsets (key by key, thread rows in order), and thread t scatters its part from its
-// row: equal keys keep their input order, so the result is the serial sort's, whatever T.
+// so this is O(n + key_count) and needs no comparison sort. On T threads thread t counts its
+// contiguous part of the input in its own row, each thread turns a range of keys into offsets
+// (key by key, thread rows in order), and thread t scatters its part from its row: equal keys
+// keep their input order, so the result is the serial sort's, whatever T. Each thread still
+// walks all key_count entries of its row (clear, offsets), so the threads only pay off where
+// the keys are no more than the pairs: an SPH grid (several particles per cell), not a DEM grid
+// of a drum's bounding box (~0.1 balls per cell), which sorts on one thread.
 // scratch: the sorted keys and values (n each), T rows of key_count counts, T range totals.
 inline void sortByKey(Omp, int* keys, int* values, int n, int key_count, std::vector<int>& scratch) {
   int threads = 1;
 #ifdef _OPENMP
-  if (n >= kOmpParallelThreshold) threads = omp_get_max_threads();
+  if (n >= kOmpParallelThreshold && key_count <= n) threads = omp_get_max_threads();
 #endif
   const std::size_t row_ints = static_cast<std::size_t>(threads) * static_cast<std::size_t>(key_count);
   const std::size_t need = 2 * static_cast<std::size_t>(n) + row_ints + static_cast<std::size_t>(threads);
