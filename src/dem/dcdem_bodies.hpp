@@ -28,7 +28,7 @@ class BodyAssembler {
 
  private:
   DemHostState m_state;
-  DemBodies m_bodies{{0}, {}, {}, {}, {}, {}, {}, {}, {}};
+  DemBodies m_bodies{{0}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
 };
 
 }  // namespace millsim::dem

@@ -26,33 +26,36 @@ struct DemEnsemble {
 };
 
 struct DemSetup {
-  double k_coef = 0;             // 4/3 E*
-  double alpha = 0;              // damping, see damping.hpp
-  double wall_mass_factor = 1;   // m* of a wall contact = factor * m
+  double k_coef = 0;            // 4/3 E*
+  double alpha = 0;             // damping, see damping.hpp
+  double wall_mass_factor = 1;  // m* of a wall contact = factor * m
   double friction = 0;
   bool tanh_smoothing = false;
   bool dualsphysics_tangential = false;  // drum walls only: HertzDualSphysicsTangential
   std::array<double, 3> gravity{0, -9.81, 0};
-  double skin = 0;               // neighbour-list skin [m]
+  double skin = 0;                                 // neighbour-list skin [m]
   std::array<double, 3> domain_lo{}, domain_hi{};  // box covering every particle position
   double max_radius = 0;
   // Stirred mill (StirrerState walls): contact law, collision tallies, lubrication.
-  bool linear_law = false;       // seed 004's linear spring-dashpot instead of Hertz
-  double linear_kn = 0;          // N/m
-  double linear_zeta = 0;        // damping ratio (linearDampingRatio(e))
+  bool linear_law = false;           // seed 004's linear spring-dashpot instead of Hertz
+  double linear_kn = 0;              // N/m
+  double linear_zeta = 0;            // damping ratio (linearDampingRatio(e))
   double lubrication_viscosity = 0;  // Pa s; 0: no lubrication stage and no arrays for it
   double lubrication_inner = 0.001, lubrication_outer = 0.05;
   bool collision_stats = true;  // Beinert tallies per contact (a <collisions> element); off: no tally arrays
-  DemEnsemble ensemble;          // several drum scenes at once (spheres only); empty: one scene
+  DemEnsemble ensemble;         // several drum scenes at once (spheres only); empty: one scene
 };
 
 // Plain host copy of the state: what checkpoints, writers and tests read and write.
 struct DemHostState {
   std::vector<double> pos, vel, omega;  // 3 per particle
   std::vector<double> radius, mass, inertia;
-  std::vector<std::int64_t> hist_id;    // kHistorySlots per particle
-  std::vector<double> hist_xi;          // 3 * kHistorySlots per particle
+  std::vector<std::int64_t> hist_id;  // kHistorySlots per particle
+  std::vector<double> hist_xi;        // 3 * kHistorySlots per particle
   std::vector<double> dissipated, work_in;
+  // Work of the external (fluid) loads on each particle, J (DemSums::work_external); empty
+  // without external loads. A restart needs it for the energy budget to carry on.
+  std::vector<double> work_external;
   // The force and torque the next step's first half-kick uses (contacts and gravity; held
   // external loads left out: they are set again by whoever holds them), 3 per particle. The
   // velocity Verlet step evaluates them with the half-step velocity, which the state does not
@@ -69,14 +72,15 @@ struct DemHostState {
 // gravity, energies and the centre of mass then sum right), its inertia 0; contacts use the
 // body's mass for the damping, as DualSPHysics's DEM between floating bodies does.
 struct DemBodies {
-  std::vector<int> start;         // size() + 1
-  std::vector<double> pos, vel;   // centre of mass and its velocity, 3 per body
-  std::vector<double> ang_mom;    // angular momentum about the centre, world frame, 3 per body
-  std::vector<double> quat;       // orientation (w, x, y, z): body frame -> world, 4 per body
+  std::vector<int> start;        // size() + 1
+  std::vector<double> pos, vel;  // centre of mass and its velocity, 3 per body
+  std::vector<double> ang_mom;   // angular momentum about the centre, world frame, 3 per body
+  std::vector<double> quat;      // orientation (w, x, y, z): body frame -> world, 4 per body
   std::vector<double> mass;
-  std::vector<double> inertia;    // body frame, about the centre: xx, yy, zz, xy, xz, yz per body
-  std::vector<double> offset;     // element positions in the body frame, 3 per element
-  std::vector<double> radius;     // the ball's radius (front view, fluid shell), per body
+  std::vector<double> inertia;        // body frame, about the centre: xx, yy, zz, xy, xz, yz per body
+  std::vector<double> offset;         // element positions in the body frame, 3 per element
+  std::vector<double> radius;         // the ball's radius (front view, fluid shell), per body
+  std::vector<double> work_external;  // work of the external (fluid) loads, J, per body; empty: none
   std::size_t size() const { return mass.size(); }
   int elements() const { return start.empty() ? 0 : start.back(); }
 };
@@ -88,17 +92,17 @@ struct DrumState {
 };
 
 struct DemSums {
-  double kinetic = 0;      // translational + rotational, J
-  double potential = 0;    // -sum m g . x, J
-  double dissipated = 0;   // accumulated, J
-  double work_in = 0;      // accumulated work of the walls on the balls, J
-  double work_external = 0;  // accumulated work of the external (fluid) forces on the balls, J
-  double elastic = 0;      // normal elastic energy stored in contacts now, J
-  double drum_torque = 0;  // moment of the charge on the drum about +z now, N m
-  double max_speed = 0;    // m/s
-  double mass = 0;         // kg, total
+  double kinetic = 0;           // translational + rotational, J
+  double potential = 0;         // -sum m g . x, J
+  double dissipated = 0;        // accumulated, J
+  double work_in = 0;           // accumulated work of the walls on the balls, J
+  double work_external = 0;     // accumulated work of the external (fluid) forces on the balls, J
+  double elastic = 0;           // normal elastic energy stored in contacts now, J
+  double drum_torque = 0;       // moment of the charge on the drum about +z now, N m
+  double max_speed = 0;         // m/s
+  double mass = 0;              // kg, total
   double com_x = 0, com_y = 0;  // centre of mass in the front view, m (the gravity moment's arm)
-  double pair_contacts = 0;    // particle pairs overlapping now (coordination number = 2 x this / N)
+  double pair_contacts = 0;     // particle pairs overlapping now (coordination number = 2 x this / N)
 };
 
 // Positions, velocities and spins of the balls, 3 per ball in host order (per DCDEM body, in

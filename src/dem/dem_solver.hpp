@@ -187,7 +187,10 @@ class DemSolver final : public DemEngine {
     m_steps = 0;
     m_has_external = false;
     m_has_body_external = false;
-    m_work_external.resize(0);
+    if (s.work_external.size() == n)  // a restart's external work carries on; else sized when loads come
+      m_work_external.copyFromHost(s.work_external);
+    else
+      m_work_external.resize(0);
     m_body_work_ext.resize(0);
     // Stirred-mill arrays exist only once a stirred step runs (allocateStirred).
     m_tally.resize(0);
@@ -258,6 +261,7 @@ class DemSolver final : public DemEngine {
     m_body_mass_host = b.mass;
     m_body_inertia_host = b.inertia;
     m_has_body_external = false;
+    if (b.work_external.size() == static_cast<std::size_t>(m_nb)) m_body_work_ext.copyFromHost(b.work_external);
     // The elements start exactly on their bodies.
     backend::parallelFor(Space{}, m_n, InvertIds{m_id.data(), m_index_of_host.data()});
     placeElements();
@@ -284,13 +288,14 @@ class DemSolver final : public DemEngine {
     b.inertia = m_body_inertia_host;
     for (const Vec3<T>& o : offset) b.offset.insert(b.offset.end(), {double(o.x), double(o.y), double(o.z)});
     b.radius = m_body_radius;
+    if (m_body_work_ext.size() == static_cast<std::size_t>(m_nb)) m_body_work_ext.copyToHost(b.work_external);
   }
 
   void getState(DemHostState& s) const override {
     std::vector<Vec3<T>> pos, vel, omega, pair_xi, wall_xi;
     std::vector<T> radius, mass, inv_inertia;
     std::vector<int> id, start, list, wall_key;
-    std::vector<double> dissipated, work_in;
+    std::vector<double> dissipated, work_in, work_external;
     m_pos.copyToHost(pos);
     m_vel.copyToHost(vel);
     m_omega.copyToHost(omega);
@@ -305,6 +310,8 @@ class DemSolver final : public DemEngine {
     m_wall_xi.copyToHost(wall_xi);
     m_dissipated.copyToHost(dissipated);
     m_work_in.copyToHost(work_in);
+    const bool has_work_external = m_work_external.size() == static_cast<std::size_t>(m_n) && m_n > 0;
+    if (has_work_external) m_work_external.copyToHost(work_external);
     std::vector<Vec3<T>> force, torque, ext_force, ext_torque;
     m_force.copyToHost(force);
     m_torque.copyToHost(torque);
@@ -323,6 +330,7 @@ class DemSolver final : public DemEngine {
     s.inertia.resize(n);
     s.dissipated.resize(n);
     s.work_in.resize(n);
+    s.work_external.assign(has_work_external ? n : 0, 0.0);
     s.hist_id.assign(n * kHistorySlots, kNoPartner);
     s.hist_xi.assign(3 * n * kHistorySlots, 0.0);
     std::vector<int> used(n, 0);
@@ -343,6 +351,7 @@ class DemSolver final : public DemEngine {
       s.inertia[h] = inv_inertia[i] > T(0) ? 1.0 / double(inv_inertia[i]) : 0.0;
       s.dissipated[h] = dissipated[i];
       s.work_in[h] = work_in[i];
+      if (has_work_external) s.work_external[h] = work_external[i];
       put3(s.force, h, m_has_external ? force[i] - ext_force[h] : force[i]);
       put3(s.torque, h, m_has_external ? torque[i] - ext_torque[h] : torque[i]);
       for (int q = 0; q < kWallSlots && wall_key[i * kWallSlots + q] != kNoPartner; ++q)

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -13,8 +15,36 @@
 
 namespace millsim::sim {
 
-SeriesWriter::SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append) {
+namespace {
+
+// Keeps the header and the rows whose time (first column) is before t, through a temporary file
+// and a rename. Times are printed with 9 significant digits, so a row at t itself may read a
+// hair off it.
+void dropRowsFrom(const std::filesystem::path& path, double t) {
+  std::ifstream in(path);
+  std::string line, kept;
+  const double cut = t - 1e-8 * std::max(1.0, std::abs(t));
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (!header && !line.empty() && std::strtod(line.c_str(), nullptr) >= cut) break;
+    kept += line + "\n";
+    header = false;
+  }
+  in.close();
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  std::ofstream out(tmp, std::ios::out | std::ios::trunc);
+  out << kept;
+  out.close();
+  if (!out) throw core::InputError(tmp.string() + ": cannot write the series file");
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace
+
+SeriesWriter::SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append,
+                           double resume_time) {
   const bool fresh = !append || !std::filesystem::exists(path);
+  if (!fresh) dropRowsFrom(path, resume_time);
   m_out.open(path, fresh ? std::ios::out : std::ios::app);
   if (!m_out) throw core::InputError(path.string() + ": cannot write the series file");
   if (fresh) {

@@ -18,7 +18,11 @@ namespace millsim::sim {
 
 class SeriesWriter {
  public:
-  SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append);
+  // append: a run resumed at resume_time (from a checkpoint) continues the file. Rows at or after
+  // resume_time, written by the earlier run past its last checkpoint, are dropped first: the
+  // resumed run writes them again, and time stays increasing down the file.
+  SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append,
+               double resume_time = 0);
   void row(const std::vector<double>& values);
 
  private:

@@ -124,7 +124,7 @@ void Simulation::Impl::run() {
   std::unique_ptr<SeriesWriter> series;
   std::unique_ptr<io::FieldsWriter> fields;
   if (options.write_outputs) {
-    series = std::make_unique<SeriesWriter>(out / "series.csv", drumSeriesColumns(), restart);
+    series = std::make_unique<SeriesWriter>(out / "series.csv", drumSeriesColumns(), restart, t);
     if (scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, restart);
   }
   const double t_end = scene.time.end;
@@ -215,10 +215,20 @@ std::vector<std::pair<const char*, std::vector<double>*>> stateArrays(dem::DemHo
           {"work_in", &s.work_in}};
 }
 
+// Arrays a checkpoint has only since they were added: a missing one restarts from zero.
+std::vector<std::pair<const char*, std::vector<double>*>> optionalStateArrays(dem::DemHostState& s) {
+  return {{"work_external", &s.work_external}};
+}
+
 std::vector<std::pair<const char*, std::vector<double>*>> bodyArrays(dem::DemBodies& b) {
   return {{"body_pos", &b.pos},       {"body_vel", &b.vel},      {"body_ang_mom", &b.ang_mom},
           {"body_quat", &b.quat},     {"body_mass", &b.mass},    {"body_inertia", &b.inertia},
           {"body_offset", &b.offset}, {"body_radius", &b.radius}};
+}
+
+// Body arrays a checkpoint has only since they were added: a missing one restarts from zero.
+std::vector<std::pair<const char*, std::vector<double>*>> optionalBodyArrays(dem::DemBodies& b) {
+  return {{"body_work_external", &b.work_external}};
 }
 
 }  // namespace
@@ -230,6 +240,8 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
   dem::DemHostState s;
   engine->getState(s);
   for (const auto& [key, v] : stateArrays(s)) cp.reals[key] = *v;
+  for (const auto& [key, v] : optionalStateArrays(s))
+    if (!v->empty()) cp.reals[key] = *v;
   cp.reals["force"] = s.force;
   cp.reals["torque"] = s.torque;
   cp.ints["hist_id"] = s.hist_id;
@@ -238,6 +250,8 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
     engine->getBodies(b);
     cp.ints["body_start"].assign(b.start.begin(), b.start.end());
     for (const auto& [key, v] : bodyArrays(b)) cp.reals[key] = *v;
+    for (const auto& [key, v] : optionalBodyArrays(b))
+      if (!v->empty()) cp.reals[key] = *v;
   }
   cp.scalars["phi"] = phi;
   cp.scalars["dt"] = dt;
@@ -266,6 +280,8 @@ void Simulation::Impl::restoreCheckpoint() {
     return it->second;
   };
   for (const auto& [key, v] : stateArrays(s)) *v = real(key);
+  for (const auto& [key, v] : optionalStateArrays(s))
+    if (cp.reals.count(key)) *v = cp.reals.at(key);
   // The forces of the checkpointed step (DemHostState::force); a checkpoint written before
   // they were kept has none, and the restart evaluates them (with v(t): close, not exact).
   if (cp.reals.count("force") && cp.reals.count("torque")) {
@@ -285,6 +301,8 @@ void Simulation::Impl::restoreCheckpoint() {
     const auto& start = cp.ints.at("body_start");
     b.start.assign(start.begin(), start.end());
     for (const auto& [key, v] : bodyArrays(b)) *v = real(key);
+    for (const auto& [key, v] : optionalBodyArrays(b))
+      if (cp.reals.count(key)) *v = cp.reals.at(key);
     engine->setBodies(b);
   }
   t = cp.time;

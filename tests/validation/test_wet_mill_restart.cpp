@@ -10,7 +10,8 @@
 // straight one to 1e-14 (balls' and slurry's energies; 1046 SPH steps in both): bound 1e-10.
 // Broken on purpose: Verlet's previous velocity not restored (taken = current): slurry kinetic
 // energy 4.3e-4 off, balls' 7.8e-5; the DEM's forces evaluated anew with v(t) (before they
-// were carried): slurry 3.9e-6, balls 2.5e-7 after one step.
+// were carried): slurry 3.9e-6, balls 2.5e-7 after one step. The energy residual is compared
+// too (2026-12-03: the slurry's work on the balls was not in the checkpoint).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,8 +30,8 @@ namespace {
 std::pair<sim::RunSummary, std::string> runWet(const std::vector<std::string>& extra, const std::string& name,
                                                const std::string& restart = "") {
   // Ten slurry frames from 0.6075 s to 0.63 s (all before the checkpoint), no fields.
-  std::vector<std::string> sets{"output.fields_every=0", "output.checkpoint_every=0", "angle_of_repose.start_time=0.605",
-                                "angle_of_repose.frames=10"};
+  std::vector<std::string> sets{"output.fields_every=0", "output.checkpoint_every=0",
+                                "angle_of_repose.start_time=0.605", "angle_of_repose.frames=10"};
   sets.insert(sets.end(), extra.begin(), extra.end());
   const auto scene = io::loadCaseFile(std::string(MILLSIM_SOURCE_DIR) + "/cases/wet_drum_small.xml", sets);
   sim::RunOptions opt;
@@ -55,13 +56,19 @@ TEST(WetMillRestart, ContinuesFromItsCheckpointAsTheStraightRun) {
   EXPECT_EQ(resumed.first.steps, straight.first.steps);
   EXPECT_EQ(resumed.first.sph_steps, straight.first.sph_steps);
   EXPECT_EQ(resumed.first.sph_particles, straight.first.sph_particles);
-  for (auto [a, b, what] : {std::tuple{resumed.first.energy_kinetic, straight.first.energy_kinetic, "balls' kinetic"},
-                            std::tuple{resumed.first.energy_dissipated, straight.first.energy_dissipated, "dissipated"},
-                            std::tuple{resumed.first.energy_work_in, straight.first.energy_work_in, "walls' work"},
-                            std::tuple{resumed.first.slurry_kinetic, straight.first.slurry_kinetic, "slurry kinetic"},
-                            std::tuple{resumed.first.slurry_potential, straight.first.slurry_potential,
-                                       "slurry potential"}})
+  for (auto [a, b, what] :
+       {std::tuple{resumed.first.energy_kinetic, straight.first.energy_kinetic, "balls' kinetic"},
+        std::tuple{resumed.first.energy_dissipated, straight.first.energy_dissipated, "dissipated"},
+        std::tuple{resumed.first.energy_work_in, straight.first.energy_work_in, "walls' work"},
+        std::tuple{resumed.first.slurry_kinetic, straight.first.slurry_kinetic, "slurry kinetic"},
+        std::tuple{resumed.first.slurry_potential, straight.first.slurry_potential, "slurry potential"}})
     EXPECT_NEAR(a / b, 1.0, 1e-10) << what << ": resumed " << a << ", straight " << b;
+  // The balls' energy budget carries on across the restart: its residual (walls' work plus the
+  // slurry's work on the balls, less their energy changes and dissipation) is the straight run's.
+  // Before the checkpoint carried the slurry's work on each ball, the resumed run restarted it
+  // from zero (the full 500 mm run's residual jumped from -3.2 J to +45.2 J at its restart).
+  EXPECT_NEAR(resumed.first.energy_residual, straight.first.energy_residual, 1e-10 * straight.first.energy_work_in)
+      << "resumed " << resumed.first.energy_residual << " J, straight " << straight.first.energy_residual << " J";
   // The slurry frames all fell before the checkpoint: the resumed run's curve stands on the
   // surface points the checkpoint carried.
   EXPECT_EQ(resumed.first.slurry_frames, 10);
