@@ -51,17 +51,27 @@ class Array<Omp, T> {
 // k (and k + team size, ... should OpenMP give fewer threads than asked, e.g. with OMP_DYNAMIC):
 // every chunk is done once, whatever the team. Then, after a barrier, after(k) for every k the
 // same way (a pass that reads what all chunks wrote).
+// The calling thread's number in its team and the team's size (0 and 1 outside a parallel
+// region or without OpenMP).
+struct TeamSeat {
+  int thread, team;
+};
+inline TeamSeat teamSeat() {
+#ifdef _OPENMP
+  return {omp_get_thread_num(), omp_get_num_threads()};
+#else
+  return {0, 1};
+#endif
+}
+
 template <class Chunk, class After>
 void forEachChunk(Omp, int chunks, const Chunk& chunk, const After& after) {
 #ifdef _OPENMP
 #pragma omp parallel num_threads(chunks)
 #endif
   {
-#ifdef _OPENMP
-    const int first = omp_get_thread_num(), stride = omp_get_num_threads();
-#else
-    const int first = 0, stride = 1;
-#endif
+    const TeamSeat seat = teamSeat();
+    const int first = seat.thread, stride = seat.team;
     for (int k = first; k < chunks; k += stride) chunk(k);
 #ifdef _OPENMP
 #pragma omp barrier
@@ -143,11 +153,8 @@ inline void sortByKey(Omp, int* keys, int* values, int n, int key_count, std::ve
 #pragma omp parallel num_threads(threads) if (threads > 1)
 #endif
   {
-#ifdef _OPENMP
-    const int t = omp_get_thread_num(), team = omp_get_num_threads();
-#else
-    const int t = 0, team = 1;
-#endif
+    const TeamSeat seat = teamSeat();
+    const int t = seat.thread, team = seat.team;
     // Input part and key range of team member t (team may be smaller than threads: OMP_DYNAMIC).
     const auto part = [](int total, int parts, int k) {
       return static_cast<int>(static_cast<long long>(total) * k / parts);
