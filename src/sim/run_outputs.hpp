@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -20,9 +21,10 @@ class SeriesWriter {
  public:
   // append: a run resumed at resume_time (from a checkpoint) continues the file. Rows at or after
   // resume_time, written by the earlier run past its last checkpoint, are dropped first: the
-  // resumed run writes them again, and time stays increasing down the file.
+  // resumed run writes them again, and time stays increasing down the file (no resume_time:
+  // every row is kept).
   SeriesWriter(const std::filesystem::path& path, const std::vector<std::string>& columns, bool append,
-               double resume_time = 0);
+               double resume_time = std::numeric_limits<double>::infinity());
   void row(const std::vector<double>& values);
 
  private:

@@ -47,10 +47,6 @@ class Array<Omp, T> {
   std::vector<T> m_data;
 };
 
-// Runs chunk(k) for every k in [0, chunks) on a team of `chunks` threads, chunk k by team member
-// k (and k + team size, ... should OpenMP give fewer threads than asked, e.g. with OMP_DYNAMIC):
-// every chunk is done once, whatever the team. Then, after a barrier, after(k) for every k the
-// same way (a pass that reads what all chunks wrote).
 // The calling thread's number in its team and the team's size (0 and 1 outside a parallel
 // region or without OpenMP).
 struct TeamSeat {
@@ -64,6 +60,10 @@ inline TeamSeat teamSeat() {
 #endif
 }
 
+// Runs chunk(k) for every k in [0, chunks) on a team of `chunks` threads, chunk k by team member
+// k (and k + team size, ... should OpenMP give fewer threads than asked, e.g. with OMP_DYNAMIC):
+// every chunk is done once, whatever the team. Then, after a barrier, after(k) for every k the
+// same way (a pass that reads what all chunks wrote).
 template <class Chunk, class After>
 void forEachChunk(Omp, int chunks, const Chunk& chunk, const After& after) {
 #ifdef _OPENMP
