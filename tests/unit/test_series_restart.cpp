@@ -51,5 +51,24 @@ TEST(SeriesRestart, ResumedWriterDropsTheRowsFromItsStartOn) {
   std::filesystem::remove(path);
 }
 
+// Appending without a resume time (the default, +inf) keeps every row already written.
+TEST(SeriesRestart, AppendWithoutResumeTimeKeepsEveryRow) {
+  const auto path = std::filesystem::temp_directory_path() / "millsim_test_series_append.csv";
+  {
+    sim::SeriesWriter w(path, {"time_s", "x"}, false);
+    for (int k = 0; k <= 3; ++k) w.row({0.1 * k, double(k)});
+  }
+  {
+    sim::SeriesWriter w(path, {"time_s", "x"}, true);
+    w.row({0.4, 4.0});
+  }
+  const std::vector<std::string> got = lines(path);
+  ASSERT_EQ(got.size(), 6u);  // header, 0.0 .. 0.3, then 0.4
+  EXPECT_EQ(got[1], "0,0");
+  EXPECT_EQ(got[4], "0.3,3");
+  EXPECT_EQ(got[5], "0.4,4");
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace millsim
