@@ -20,13 +20,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <sstream>
 #include <string>
 
 #include "sph/geometry.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
+#include "support/env_runs.hpp"
 
 namespace millsim {
 namespace {
@@ -128,17 +127,8 @@ TEST(SphTowedCylinder, NoSlipWallsGiveFaxensDrag) {
 TEST(SphTowedCylinder, DISABLED_ResolutionAndWallVelocity) {
   // MILLSIM_TOW="a_over_dp:wall_velocity[:boundary] ..." picks the runs (default: 4 and 6 dp,
   // both wall velocities, DBC).
-  const char* env = std::getenv("MILLSIM_TOW");
-  std::istringstream runs(env ? env : "4:dbc 4:no_slip 6:dbc 6:no_slip");
-  std::string run;
-  while (runs >> run) {
-    std::istringstream fields(run);
-    std::string a, wall_velocity, boundary = "dbc";
-    std::getline(fields, a, ':');
-    std::getline(fields, wall_velocity, ':');
-    std::getline(fields, boundary, ':');
-    towCylinder(std::stoi(a), wall_velocity, boundary.empty() ? "dbc" : boundary);
-  }
+  for (const auto& f : testing::envRuns("MILLSIM_TOW", "4:dbc 4:no_slip 6:dbc 6:no_slip", 3))
+    towCylinder(std::stoi(f[0]), f[1], f[2].empty() ? "dbc" : f[2]);
 }
 
 }  // namespace
