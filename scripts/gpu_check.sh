@@ -8,9 +8,13 @@
 #      GPU (BM_DemScaling, BM_SphScaling3d; SPH in double and float), JSON per run;
 #   3. millsim_bench: an ensemble of 18 drums against one drum on the GPU (BM_DrumEnsemble);
 #   4. millsim_bench: the coupled wet mill (SPH-DEM) at N = 1e4 .. 1e6 on both backends and 1e7
-#      on the GPU (BM_CoupledScaling).
-# Each stage has its own time limit (at most 580 s in all, under the device tool's 600 s per command),
-# so one that hangs costs only its share.
+#      on the GPU (BM_CoupledScaling);
+#   5. millsim_bench: the full LS1 stirred mill (128 000 beads), 1 ms on both backends, then the
+#      seed's 52.5 ms on the GPU (BM_StirredLs1); on request (ls1_program) its whole speed program
+#      with outputs, OUT/ls1_program.tar.gz.
+# Each stage has its own time limit, so one that hangs costs only its share. GPU_STAGES picks the
+# stages (default all: "tests ls1 dem sph ensemble coupled"), so the checks can be split over two
+# calls of the device tool (each at most 600 s), the second while the machine is still warm.
 #
 # Here: scripts/build.sh -DMILLSIM_BUILD_TESTS=ON (CUDA on), bash scripts/gpu_bundle.sh, then run
 # on the device machine with carry = build/gpu_pack.tar.xz (the two binaries, stripped, and their
@@ -38,6 +42,10 @@ status=0
 { ldd --version | head -n 1; ldd build/tests/millsim_gpu_tests build/bench/millsim_bench | grep -E 'not found|version' || true; } |
   tee -a "$out/machine.txt"
 
+stages=" ${GPU_STAGES:-tests ls1 dem sph ensemble coupled} "
+want() { [[ "$stages" == *" $1 "* ]]; }
+
+if want tests; then
 echo "== GPU tests (CUDA vs OpenMP; MILLSIM_CUDA_SYNC=1: a fault names its kernel)"
 MILLSIM_CUDA_SYNC=1 OMP_NUM_THREADS=$threads timeout "${TESTS_S:-200}" build/tests/millsim_gpu_tests \
   --gtest_output="json:$out/gpu_tests.json" 2>&1 | tee "$out/gpu_tests.txt" | grep -E '^\[|^T = |drift|Z/a|Skipped|device|coupled steps|largest difference'
@@ -51,24 +59,46 @@ if grep -q '^\[  SKIPPED \]' "$out/gpu_tests.txt"; then
   echo "!! GPU tests were SKIPPED: no usable CUDA device (see the skip message above)" | tee -a "$out/gpu_tests.txt"
   status=1
 fi
+fi
 
 bench() {  # name, seconds, filter, extra env
   local name=$1 secs=$2 filter=$3
   shift 3
   echo "== bench $name ($filter)"
+  # The console lines go to a file as well: a run cut by its limit leaves no JSON, but what it
+  # printed before stays.
   env OMP_NUM_THREADS="$threads" "$@" timeout "$secs" build/bench/millsim_bench --benchmark_filter="$filter" \
-    --benchmark_out="$out/bench_$name.json" --benchmark_out_format=json 2>&1 | grep -vE '^\*\*\*' | tail -n 20
+    --benchmark_out="$out/bench_$name.json" --benchmark_out_format=json 2>&1 | grep -vE '^\*\*\*' |
+    tee -a "$out/bench_console.txt" | tail -n 20
 }
-bench dem "${DEM_S:-80}" 'BM_DemScaling'
-bench sph_double "${SPH_S:-80}" 'BM_SphScaling3d'
-bench sph_float "${SPH_F_S:-60}" 'BM_SphScaling3d/.*/1' MILLSIM_BENCH_FLOAT=1
+# Issues 6 and 10: the LS1 case, 1 ms on both backends (the rate), then 52.5 ms on the GPU.
+if want ls1; then
+  bench ls1 "${LS1_S:-40}" 'BM_StirredLs1/1000/'
+  bench ls1_full "${LS1_FULL_S:-100}" 'BM_StirredLs1/52500/1'
+fi
+# Issue 6, Done-when 2: the whole speed program of the full LS1 case (7 x 57.5 ms, ~4 min on an
+# H200), its outputs packed into one archive (the device tool brings back at most 8 files).
+# Not in the default stages: GPU_STAGES="tests ls1_program".
+if want ls1_program; then
+  # LS1_PROGRAM_END_US=287500: the first five levels only (1000 .. 3000 rpm, ~3.5 min).
+  bench ls1_program "${LS1_PROGRAM_S:-400}" "BM_StirredLs1/${LS1_PROGRAM_END_US:-402500}/1" \
+    MILLSIM_BENCH_OUT="$out/ls1_program"
+  tar -C "$out" -czf "$out/ls1_program.tar.gz" ls1_program && rm -rf "$out/ls1_program"
+fi
+want dem && bench dem "${DEM_S:-60}" 'BM_DemScaling'
+if want sph; then
+  bench sph_double "${SPH_S:-70}" 'BM_SphScaling3d'
+  bench sph_float "${SPH_F_S:-50}" 'BM_SphScaling3d/.*/1' MILLSIM_BENCH_FLOAT=1
+fi
 # Issue 10, Done-when 4: 18 drums (6 candidates x 300/400/500 mm) as one ensemble against the
 # 300 mm drum alone, 2 s simulated each, on the GPU (the CPU side is in docs/performance.md).
-bench ensemble "${ENS_S:-80}" 'BM_DrumEnsemble/./1' MILLSIM_ENSEMBLE_T="${ENSEMBLE_T:-2}"
+want ensemble && bench ensemble "${ENS_S:-70}" 'BM_DrumEnsemble/./1' MILLSIM_ENSEMBLE_T="${ENSEMBLE_T:-2}"
 # The paper's wet mill scaled to N particles (bench/bench_coupled.cpp); not the 195 329 of the
 # case itself, measured on the CPU (docs/performance.md).
-bench coupled "${COUPLED_S:-40}" 'BM_CoupledScaling/(10000|100000|1000000)/'
-bench coupled_1e7 "${COUPLED_7_S:-40}" 'BM_CoupledScaling/10000000/'
+if want coupled; then
+  bench coupled "${COUPLED_S:-40}" 'BM_CoupledScaling/(10000|100000|1000000)/'
+  bench coupled_1e7 "${COUPLED_7_S:-40}" 'BM_CoupledScaling/10000000/'
+fi
 
 python3 - "$out" <<'EOF' | tee "$out/summary.txt"
 import glob, json, os, sys
@@ -85,6 +115,11 @@ for path in sorted(glob.glob(os.path.join(sys.argv[1], "bench_*.json"))):
         if "scenes" in b:  # BM_DrumEnsemble: one iteration is one whole run
             print(f"{os.path.basename(path)} {b['name']}: {b['scenes']:.0f} scene(s), {b['particles']:.0f} balls, "
                   f"{b['real_time']:.3g} {b['time_unit']} per run, {b['particle_steps_per_s']:.3g} particle-steps/s")
+            continue
+        if "wall_per_52_5ms_s" in b:  # BM_StirredLs1: one iteration is one whole run
+            print(f"{os.path.basename(path)} {b['name']}: {b['particles']:.0f} beads, {b['steps']:.0f} steps, "
+                  f"{b['simulated_s'] * 1e3:.3g} ms simulated in {b['run_wall_s']:.3g} s, "
+                  f"52.5 ms -> {b['wall_per_52_5ms_s']:.3g} s, {b['particle_steps_per_s']:.3g} particle-steps/s")
             continue
         n = b.get("fluid") or b.get("particles")
         print(f"{os.path.basename(path)} {b['name']}: N = {n:.0f}, {b['real_time']:.3g} {b['time_unit']}/step, "
