@@ -432,6 +432,10 @@ void StirredRun::Impl::run() {
   }
   progress.finish();
   markRunEnd(summary, "ok", t, step, wall0);
+  // Only the levels whose averaging window closed: a run ended by time.end inside the program
+  // would otherwise report the levels it never reached (and a half-open one) as 0 W, in
+  // power.csv, the plot and summary.json's power.
+  levels.resize(level);
   summary.neighbour_rebuilds = engine->neighbourRebuilds();
   const dem::DemSums now = engine->sums();
   final_sums = engine->stirredSums();

@@ -96,6 +96,20 @@ TEST(StirredEngine, LubricationDissipationClosesTheBudgetOfAnApproach) {
   EXPECT_EQ(k1.dissipated, 0.0);  // never touched
 }
 
+// A run cut by time.end inside the speed program reports only the levels it completed: the
+// small case's levels are 12 ms (2 ms ramp + 10 ms hold), so 18 ms completes the first and is
+// half-way through the second. Before the fix the second appeared with 0 W (seen in the full LS1 case on the GPU,
+// 2026-12-04: 3500 and 4000 rpm at 0 W).
+TEST(StirredMillCase, ProgramCutByEndTimeReportsOnlyCompletedLevels) {
+  const auto r = runCase("stirred_mill_ls1_small", {"time.end=0.018", "collisions.start=1"}, "stirred_small_cut");
+  ASSERT_EQ(r.summary["status"], "ok");
+  const auto& lv = r.summary["stirred"]["levels"];
+  ASSERT_EQ(lv.size(), 1u);
+  EXPECT_EQ(double(lv[0]["rpm"]), 1000.0);
+  EXPECT_GT(double(lv[0]["power_W"]), 0.0);
+  EXPECT_LE(double(lv[0]["window_s"][1]), double(r.summary["simulated_time_s"]));
+}
+
 TEST(StirredMillCase, DryEnergyBudgetPowerAndStatistics) {
   const auto r = runCase("stirred_mill_ls1_small", {}, "stirred_small_dry");
   ASSERT_EQ(r.summary["status"], "ok");
