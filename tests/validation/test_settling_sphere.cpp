@@ -41,6 +41,8 @@
 //   faster than even the unbounded law. So the sphere's own drag is low in 3D (~25%), not only
 //   the tube's hindrance, and refinement closes it slowly; the 2D towed cylinder has no such
 //   deficit at a = 6 dp. The walls' density floor (rho0) is not it: without it, +28%.
+// - 2026-12-04, the towed sphere (test_sph_towed_sphere.cpp, no free body, Re = 0.05): drag 0.80
+//   of creeping flow's at a = 3 and 4 dp alike. The deficit is the 3D drag itself.
 //
 // Terminal velocity: the mean over the last acoustic period of the column (at least 3 tau_v) of
 // the run, which ends when the sphere's centre is 4 d above the bottom. The steady check compares

@@ -26,6 +26,7 @@
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
 #include "support/env_runs.hpp"
+#include "support/tow_body.hpp"
 
 namespace millsim {
 namespace {
@@ -76,32 +77,14 @@ TowResult towCylinder(int n_radius, const std::string& wall_velocity, const std:
 
   auto e = sph::makeSphEngineOmp(s);
   e->setState(st);
-  auto body = [&]() { return std::vector<sph::SphBody>{sph::SphBody{{c[0], c[1], 0}, {0, -U, 0}, {}}}; };
-  e->setBodyKinematics(body());
-  e->initialize({});
-  const double t_diff = 0.25 * W * W / nu, t_end = 3 * t_diff, t_avg = 2 * t_diff;
-  double t = 0, fx = 0, fy = 0;
-  int n = 0;
+  const double t_diff = 0.25 * W * W / nu;
+  const testing::TowAverage tow = testing::towAndAverage(*e, c, {0, -U, 0}, 3 * t_diff, 2 * t_diff);
   TowResult r;
   r.particles = static_cast<long long>(st.size());
-  while (t < t_end) {
-    const double dt = std::min(e->nextDt(), t_end - t);
-    c[1] -= U * dt;
-    e->setBodyKinematics(body());
-    e->step(dt, {}, {});
-    t += dt;
-    ++r.steps;
-    if (t > t_avg) {
-      const auto load = e->bodyLoads()[0];
-      fx += load.force[0];
-      fy += load.force[1];
-      ++n;
-    }
-  }
+  r.steps = tow.steps;
   const double mu = rho0 * nu;
   const double expected = 4 * std::acos(-1.0) * mu * U * faxenDrag(k);
-  fx /= n;
-  fy /= n;
+  const double fx = tow.force[0], fy = tow.force[1];
   r.drag_ratio = fy / expected;  // the fluid pushes the cylinder up (+y) against its motion
   r.side = std::abs(fx) / std::abs(fy);
   const sph::SphSums sums = e->sums();

@@ -1,0 +1,43 @@
+#pragma once
+// Towing a body through fluid at rest (the towed cylinder and towed sphere tests): body 0 of an
+// SPH engine moves at a constant velocity from `centre`, and the fluid's force on it is averaged
+// over t_avg < t <= t_end (after the start-up transient).
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "sph/sph_engine.hpp"
+
+namespace millsim::testing {
+
+struct TowAverage {
+  std::array<double, 3> force{};  // mean fluid force on the body over the window
+  long long steps = 0;
+};
+
+inline TowAverage towAndAverage(sph::SphEngine& e, std::array<double, 3> centre, const std::array<double, 3>& velocity,
+                                double t_end, double t_avg) {
+  auto body = [&]() { return std::vector<sph::SphBody>{sph::SphBody{centre, velocity, {}}}; };
+  e.setBodyKinematics(body());
+  e.initialize({});
+  TowAverage r;
+  double t = 0;
+  int samples = 0;
+  while (t < t_end) {
+    const double dt = std::min(e.nextDt(), t_end - t);
+    for (int k = 0; k < 3; ++k) centre[k] += velocity[k] * dt;
+    e.setBodyKinematics(body());
+    e.step(dt, {}, {});
+    t += dt;
+    ++r.steps;
+    if (t > t_avg) {
+      const auto load = e.bodyLoads()[0];
+      for (int k = 0; k < 3; ++k) r.force[k] += load.force[k];
+      ++samples;
+    }
+  }
+  for (double& f : r.force) f /= samples > 0 ? samples : 1;
+  return r;
+}
+
+}  // namespace millsim::testing
