@@ -11,7 +11,7 @@
 #      on the GPU (BM_CoupledScaling);
 #   5. millsim_bench: the full LS1 stirred mill (128 000 beads), 1 ms on both backends, then the
 #      seed's 52.5 ms on the GPU (BM_StirredLs1); on request (ls1_program) its whole speed program
-#      with outputs, OUT/ls1_program.tar.gz.
+#      with outputs, OUT/ls1_program.tar.gz; on request (case) any case file whole with outputs.
 # Each stage has its own time limit, so one that hangs costs only its share. GPU_STAGES picks the
 # stages (default all: "tests ls1 dem sph ensemble coupled"), so the checks can be split over two
 # calls of the device tool (each at most 600 s), the second while the machine is still warm.
@@ -84,6 +84,14 @@ if want ls1_program; then
   bench ls1_program "${LS1_PROGRAM_S:-400}" "BM_StirredLs1/${LS1_PROGRAM_END_US:-402500}/1" \
     MILLSIM_BENCH_OUT="$out/ls1_program"
   tar -C "$out" -czf "$out/ls1_program.tar.gz" ls1_program && rm -rf "$out/ls1_program"
+fi
+# Issue 5, Done-when 5: a whole case with its outputs (bench/bench_case_run.cpp), on request:
+# GPU_STAGES=case CASE=ball_mill_500_wet.xml CASE_SET='time.end=4' (overrides ';'-separated),
+# OUT/case.tar.gz; then compare its angle and slurry curve with the CPU run's.
+if want case; then
+  bench case "${CASE_S:-500}" 'BM_CaseRun/1' MILLSIM_BENCH_CASE="${CASE:-}" MILLSIM_BENCH_SET="${CASE_SET:-}" \
+    MILLSIM_BENCH_OUT="$out/case"
+  tar -C "$out" -czf "$out/case.tar.gz" case && rm -rf "$out/case"
 fi
 want dem && bench dem "${DEM_S:-60}" 'BM_DemScaling'
 if want sph; then
