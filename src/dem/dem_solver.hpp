@@ -40,10 +40,10 @@ struct KineticEnergy {
 // touching, and without the floor the last bit of a position decides whether thousands of such
 // force-free pairs count (on the GPU, 2026-12-04, 50 steps of cases/stirred_mill_ls1.xml: CUDA
 // and OpenMP differed by 0.5% in contacts per bead, tests/gpu/test_cases_cuda_vs_omp.cpp).
-// 1e-9 of the reach (1.8e-12 m for
-// 1.8 mm beads) is ~1000x below the overlap one bead's weight makes at the linear stiffness of
-// cases/stirred_mill_ls1.xml, so every load-carrying contact counts. In float the floor is below
-// the positions' resolution and the count is the plain dist < ri + rj.
+// 1e-9 of the reach (1.8e-12 m for 1.8 mm beads) is ~1000x below the overlap one bead's weight
+// makes at the linear stiffness of cases/stirred_mill_ls1.xml, so every load-carrying contact
+// counts. In float the floor is below the rounding of the distance (~6e-8), so the count is the
+// plain dist < ri + rj there.
 template <class T>
 struct PairContactCount {
   ParticleView<T> p;
