@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
+#include "bench_whole_run.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/simulation.hpp"
 
@@ -39,17 +40,7 @@ void BM_CaseRun(benchmark::State& state) {
   const bool cuda = state.range(0) != 0;
   if (!bench::backendAvailable(state, cuda)) return;
   const scene::Scene scene = io::loadCaseFile(bench::sourceDir() + "/cases/" + name, overridesFromEnv());
-  const char* out = std::getenv("MILLSIM_BENCH_OUT");
-  sim::RunOptions run;
-  run.backend = cuda ? "cuda" : "omp";
-  run.precision = bench::singlePrecision() ? "float" : "double";
-  run.write_outputs = out != nullptr;
-  if (out) run.out_dir = std::string(out) + "/" + scene.name + "_" + run.backend;
-  sim::RunSummary summary;
-  for (auto _ : state) {
-    sim::Simulation sim(scene, run);
-    summary = sim.run();
-  }
+  const sim::RunSummary summary = bench::runWholeCase(state, scene, cuda, scene.name);
   state.counters["particles"] = static_cast<double>(summary.particles + summary.sph_particles);
   state.counters["steps"] = static_cast<double>(summary.steps);
   state.counters["simulated_s"] = summary.simulated_time_s;

@@ -13,10 +13,10 @@
 //   DIR/ls1_<end_us>_<backend>, so the GPU machine, which has no CLI, can bring them back.
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
 #include <string>
 
 #include "bench_common.hpp"
+#include "bench_whole_run.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/simulation.hpp"
 
@@ -28,19 +28,9 @@ void BM_StirredLs1(benchmark::State& state) {
   const double end_s = static_cast<double>(state.range(0)) * 1e-6;
   const bool cuda = state.range(1) != 0;
   if (!bench::backendAvailable(state, cuda)) return;
-  const char* out = std::getenv("MILLSIM_BENCH_OUT");
   const scene::Scene scene = io::loadCaseFile(bench::sourceDir() + "/cases/stirred_mill_ls1.xml",
                                               {"time.end=" + std::to_string(end_s), "output.fields_every=0"});
-  sim::RunOptions run;
-  run.backend = cuda ? "cuda" : "omp";
-  run.precision = bench::singlePrecision() ? "float" : "double";
-  run.write_outputs = out != nullptr;
-  if (out) run.out_dir = std::string(out) + "/ls1_" + std::to_string(state.range(0)) + "_" + run.backend;
-  sim::RunSummary summary;
-  for (auto _ : state) {
-    sim::Simulation sim(scene, run);
-    summary = sim.run();
-  }
+  const sim::RunSummary summary = bench::runWholeCase(state, scene, cuda, "ls1_" + std::to_string(state.range(0)));
   const double steps = static_cast<double>(summary.steps), beads = static_cast<double>(summary.particles);
   state.counters["particles"] = beads;
   state.counters["steps"] = steps;
