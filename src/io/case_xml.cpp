@@ -488,17 +488,19 @@ Schema buildSchema() {
              "Reference density (paper's slurry: 1400)."),
       number("sph", "gamma", "", above(0), [](Scene& sc) -> double& { return sc.sph.gamma; },
              "Tait exponent (eq. 28)."),
-      choice("sph", "viscosity", {"artificial", "laminar", "laminar_sps"},
+      choice("sph", "viscosity", {"artificial", "laminar", "laminar_sps", "laminar_central"},
              [](Scene& sc) -> std::string& { return sc.sph.viscosity; },
              "artificial: Monaghan (eq. 21, alpha); laminar: Lo & Shao (eq. 23, nu); laminar_sps: Lo & Shao + SPS "
-             "turbulence (eqs. 23-27, nu, Cs = 0.12, C_I = 0.0066)."),
+             "turbulence (eqs. 23-27, nu, Cs = 0.12, C_I = 0.0066); laminar_central: the same nu with pair forces "
+             "along the line of centres (Monaghan-Cleary-Gingold): the right torque on turning bodies (Lo & Shao "
+             "gives a sphere 2/3 of it) and angular momentum conserved, at a third of the viscous time step."),
       number("sph", "alpha", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.alpha; },
              "Artificial viscosity coefficient."),
       number("sph", "visco_bound_factor", "", atLeast(0),
              [](Scene& sc) -> double& { return sc.sph.visco_bound_factor; },
              "alpha multiplier for fluid-boundary pairs (paper's wet mill: 0.1)."),
       number("sph", "nu", "m^2/s", atLeast(0), [](Scene& sc) -> double& { return sc.sph.nu; },
-             "Kinematic viscosity for laminar and laminar_sps (paper's slurry: 8.1e-6)."),
+             "Kinematic viscosity for laminar, laminar_sps and laminar_central (paper's slurry: 8.1e-6)."),
       choice("sph", "wall_velocity", {"dbc", "no_slip", "no_slip_ghost"},
              [](Scene& sc) -> std::string& { return sc.sph.wall_velocity; },
              "Wall particles in the viscous terms: dbc, their own velocity (DualSPHysics and the paper; the fluid "
@@ -520,7 +522,7 @@ Schema buildSchema() {
       integer("sph", "verlet_steps", "", atLeast(1), [](Scene& sc) -> int& { return sc.sph.verlet_steps; },
               "Ns: an Euler step every Ns Verlet steps."),
       number("sph", "cfl", "", range('(', 0, 1, ']'), [](Scene& sc) -> double& { return sc.sph.cfl; },
-             "Courant number of the variable time step (eqs. 40-41) when time.dt = auto; with laminar or laminar_sps the "
+             "Courant number of the variable time step (eqs. 40-41) when time.dt = auto; with a laminar viscosity the "
              "step also stays below the viscous term's stability limit, and with ddt below the density diffusion's "
              "(summary.json: sph.dt_viscous_limit_s, sph.dt_ddt_limit_s)."),
       choice("sph", "shifting", {"none", "full"}, [](Scene& sc) -> std::string& { return sc.sph.shifting; },

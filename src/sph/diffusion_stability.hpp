@@ -9,6 +9,10 @@
 // and the density diffusion, with its coefficient 2 delta h c0 in place of 4 nu / 2, at
 // delta h c0 rate(k). latticeDiffusionRate returns max_k rate(k) over the Brillouin zone
 // (Wendland, h = sqrt(2) dp, 2D: 6.31 / h^2; h = 0.8 sqrt(3) dp, 3D: 6.69 / h^2).
+// The central form of the viscous term (laminar_central) couples the components: the mode decays
+// at nu times the largest eigenvalue of sum_b xi/2 V_b |fac| (r_b r_b^T / (r_b^2 + eta^2))
+// (1 - cos k.r_b), xi = 2 (d + 2); longitudinal modes are the fast ones (3 nu k^2 for long
+// waves), so its rate is about three times the scalar one.
 // An integrator is stable for a mode while mu = lambda dt stays below its limit:
 //   - symplectic (predictor-corrector, v_(n+1) = (1 - mu + mu^2/2) v_n): mu <= 2;
 //   - Verlet: the leap-frog v_(n+1) = v_(n-1) - 2 mu v_n has a parasitic root of modulus
@@ -22,6 +26,7 @@
 // 0.126 (2D) and 0.134 (3D) at the paper's delta = 0.1, CFL = 0.2, 0.93 and 0.99 of the Verlet
 // limit; delta = 0.15 blew the 2D hydrostatic column up within 0.03 s (docs/validation.md).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <string>
@@ -31,8 +36,22 @@
 
 namespace millsim::sph {
 
+// Largest eigenvalue of a symmetric 3x3 matrix (xx, yy, zz, xy, xz, yz), by the trigonometric
+// solution of its characteristic cubic.
+inline double largestEigenvalue(const std::array<double, 6>& m) {
+  const double p1 = m[3] * m[3] + m[4] * m[4] + m[5] * m[5];
+  if (p1 == 0) return std::max({m[0], m[1], m[2]});
+  const double q = (m[0] + m[1] + m[2]) / 3;
+  const double a = m[0] - q, b = m[1] - q, c = m[2] - q;
+  const double p = std::sqrt((a * a + b * b + c * c + 2 * p1) / 6);
+  // det((M - qI) / p) / 2, clamped to [-1, 1] against round-off.
+  const double det = a * (b * c - m[5] * m[5]) - m[3] * (m[3] * c - m[5] * m[4]) + m[4] * (m[3] * m[5] - b * m[4]);
+  const double r = std::clamp(det / (2 * p * p * p), -1.0, 1.0);
+  return q + 2 * p * std::cos(std::acos(r) / 3);
+}
+
 template <class Kernel>
-double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, double eta2) {
+double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, double eta2, bool central = false) {
   struct Offset {
     double x, y, z, w;
   };
@@ -47,6 +66,7 @@ double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, 
         const double fac = std::abs(double(kernel.fac(static_cast<decltype(kernel.h)>(std::sqrt(r2)))));
         neighbours.push_back({x, y, z, 2 * std::pow(dp, dim) * fac * r2 / (r2 + eta2)});
       }
+  const double xi = 2.0 * (dim + 2);
   // The neighbour set is symmetric in each axis, so k in [0, pi/dp]^dim covers the zone.
   const int steps = 24;
   const double pi = std::acos(-1.0), dk = pi / dp / steps;
@@ -55,8 +75,22 @@ double latticeDiffusionRate(const Kernel& kernel, int dim, double h, double dp, 
     for (int b = 0; b <= steps; ++b)
       for (int a = 0; a <= steps; ++a) {
         double rate = 0;
-        for (const Offset& o : neighbours) rate += o.w * (1 - std::cos(dk * (a * o.x + b * o.y + c * o.z)));
-        best = std::max(best, rate);
+        std::array<double, 6> m{};  // the central form's matrix
+        for (const Offset& o : neighbours) {
+          const double d = o.w * (1 - std::cos(dk * (a * o.x + b * o.y + c * o.z)));
+          if (!central) {
+            rate += d;
+            continue;
+          }
+          const double s = 0.5 * xi * d / (o.x * o.x + o.y * o.y + o.z * o.z);
+          m[0] += s * o.x * o.x;
+          m[1] += s * o.y * o.y;
+          m[2] += s * o.z * o.z;
+          m[3] += s * o.x * o.y;
+          m[4] += s * o.x * o.z;
+          m[5] += s * o.y * o.z;
+        }
+        best = std::max(best, central ? largestEigenvalue(m) : rate);
       }
   return best;
 }
@@ -102,7 +136,8 @@ struct DiffusionDtLimits {
 };
 template <class Kernel>
 DiffusionDtLimits diffusionDtLimits(const Kernel& kernel, int dim, double h, double dp, double eta2, double nu,
-                                    double ddt_delta, double c0, bool symplectic, int verlet_steps) {
+                                    double ddt_delta, double c0, bool symplectic, int verlet_steps,
+                                    bool central_viscosity = false) {
   DiffusionDtLimits l;
   if (nu <= 0 && ddt_delta <= 0) return l;
   if (!symplectic && verlet_steps <= 0)
@@ -112,7 +147,9 @@ DiffusionDtLimits diffusionDtLimits(const Kernel& kernel, int dim, double h, dou
         "or use the symplectic integrator");
   const double mu = symplectic ? 2.0 : verletDiffusionLimit(verlet_steps);
   const double rate = latticeDiffusionRate(kernel, dim, h, dp, eta2);
-  if (nu > 0) l.viscous = kViscousDtMargin * mu / (nu * rate);
+  if (nu > 0)
+    l.viscous = kViscousDtMargin * mu /
+                (nu * (central_viscosity ? latticeDiffusionRate(kernel, dim, h, dp, eta2, true) : rate));
   if (ddt_delta > 0) l.ddt = mu / (ddt_delta * h * c0 * rate);
   return l;
 }

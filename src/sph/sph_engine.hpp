@@ -15,7 +15,7 @@ struct SphSetup {
   int dimension = 2;
   std::string kernel = "wendland";       // wendland | cubic
   std::string ddt = "fourtakas";         // none | molteni | fourtakas
-  std::string viscosity = "artificial";  // artificial | laminar | laminar_sps
+  std::string viscosity = "artificial";  // artificial | laminar | laminar_sps | laminar_central
   std::string integrator = "verlet";     // verlet | symplectic
   bool shifting = false;
   double dp = 0, h = 0, c0 = 0, rho0 = 1000, gamma = 7;
@@ -26,8 +26,10 @@ struct SphSetup {
   double eta2_factor = 0.01;  // eta^2 = factor h^2
   double shift_coef = 2.0, shift_tfs = 1.5;
   double sps_cs = 0.12, sps_ci = 0.0066;
-  // Lo & Shao's laminar term (laminar or laminar_sps).
-  bool laminar() const { return viscosity == "laminar" || viscosity == "laminar_sps"; }
+  // A physical viscosity nu: Lo & Shao's laminar term (laminar or laminar_sps) or its central
+  // form (laminar_central).
+  bool laminar() const { return viscosity == "laminar" || viscosity == "laminar_sps" || central(); }
+  bool central() const { return viscosity == "laminar_central"; }
   // The SPS stress is on: laminar_sps with a non-zero coefficient (with Cs = C_I = 0 the stress
   // is zero at every step, and the solver runs the laminar term alone, without strain sums).
   bool sps() const { return viscosity == "laminar_sps" && (sps_cs != 0 || sps_ci != 0); }
@@ -81,7 +83,7 @@ struct SphRestartState {
   std::vector<double> pos0;            // 3 per particle, with moving walls
   std::vector<double> vel_m1, rho_m1;  // Verlet
   long long step = 0;
-  std::vector<SphBodyLoad> impulse;    // per body
+  std::vector<SphBodyLoad> impulse;  // per body
 };
 
 struct SphSums {

@@ -158,8 +158,9 @@ class SphSolver final : public SphEngine {
     m_symplectic = s.integrator == "symplectic";
     m_evaluations_per_step = m_symplectic ? 2 : 1;
     withKernel([&](auto kernel) {
-      m_dt_limits = diffusionDtLimits(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h, s.laminar() ? s.nu : 0.0,
-                                      s.ddt == "none" ? 0.0 : s.ddt_value, s.c0, m_symplectic, s.verlet_steps);
+      m_dt_limits =
+          diffusionDtLimits(kernel, Dim, s.h, s.dp, s.eta2_factor * s.h * s.h, s.laminar() ? s.nu : 0.0,
+                            s.ddt == "none" ? 0.0 : s.ddt_value, s.c0, m_symplectic, s.verlet_steps, s.central());
     });
     // A fixed step past a limit (the viscous one without its margin) is refused, naming it.
     auto refuse = [&](double limit, const std::string& term) {
@@ -610,6 +611,8 @@ class SphSolver final : public SphEngine {
   void withVisc(F&& f) const {
     if (m_setup.sps())
       f(ViscosityLaminarSps<T>{{T(m_setup.nu), m_eta2}});
+    else if (m_setup.central())
+      f(ViscosityLaminarCentral<T>{T(m_setup.nu), m_eta2, T(2 * (Dim + 2))});
     else if (m_setup.laminar())
       f(ViscosityLaminar<T>{T(m_setup.nu), m_eta2});
     else
@@ -676,7 +679,8 @@ class SphSolver final : public SphEngine {
             Space{}, m_n,
             WallNoSlipVelocity<T, decltype(kernel)>{
                 m_cells.view(0), m_pos.data(), m_vel.data(), m_code.data(), kernel, m_support2, m_wall_visc_vel.data(),
-                m_setup.wall_velocity == "no_slip_ghost" ? m_ghost.data() : nullptr});
+                m_setup.wall_velocity == "no_slip_ghost" ? m_ghost.data() : nullptr, T(m_omega),
+                m_bodies > 0 ? m_body.data() : nullptr, m_body_omega.data()});
       withDdt([&](auto ddt) {
         withVisc([&](auto visc) {
           withShift([&](auto shift) {

@@ -12,6 +12,18 @@
 //   tau from the previous step's strain rate (SpsStress below): nu_SPS = (Cs dp)^2 |S|,
 //   |S| = sqrt(2 S_ij S_ij), tau_ij / rho = 2 nu_SPS (S_ij - S_kk delta_ij / 3)
 //   - 2/3 C_I dp^2 |S|^2 delta_ij, Cs = 0.12, C_I = 0.0066.
+// ViscosityLaminarCentral (Monaghan, Cleary & Gingold; Cleary 1998, Monaghan 2005 sec. 6.2):
+//   dv_a/dt += m_b 2 xi nu (v_ab . r_ab) / ((rho_a + rho_b)(r^2 + eta^2)) grad W,  xi = 2 (d + 2),
+//   i.e. nu (lap v + 2 grad div v), the same as Lo & Shao's nu lap v where the flow is
+//   incompressible. The difference is where the force points: along r_ab (a central force).
+//   Lo & Shao's pair force points along v_ab; the stress the fluid passes across a surface is
+//   then mu grad v instead of mu (grad v + grad v^T), which is the same on a wall at rest or
+//   translating (there the transpose part vanishes) but not on a turning one: a sphere turning
+//   in fluid gets 2/3 of its torque, a cylinder 1/2 (the rigid rotation's part, mu Omega, is
+//   missing), and the fluid's angular momentum is not conserved
+//   (tests/validation/test_sph_rotating_sphere.cpp). The central force has both right. Its cost:
+//   longitudinal waves diffuse at 3 nu k^2, so its viscous step limit is about a third of Lo &
+//   Shao's (diffusion_stability.hpp).
 // eta^2 = 0.01 h^2 (DualSPHysics; the paper prints "eta = 0.001 h^2", which is not a length:
 // shared/reference/dualsphysics_anchor.md). It only matters as r -> 0.
 #include <cmath>
@@ -51,8 +63,8 @@ struct ViscosityArtificial {
   static constexpr const char* kName = "artificial";
   static constexpr bool kNeedsStrain = false;
   T alpha = 0.1, alpha_bound = 0.1, h = 0, c0 = 0, eta2 = 0;
-  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool bound,
-                                const Sym3<T>&, const Sym3<T>&) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b,
+                                                     bool bound, const Sym3<T>&, const Sym3<T>&) const {
     const T vr = core::dot(v_ab, r_ab);
     if (vr >= T(0)) return core::zero3<T>();
     const T mu = h * vr / (r2 + eta2);
@@ -68,9 +80,22 @@ struct ViscosityLaminar {
   static constexpr const char* kName = "laminar";
   static constexpr bool kNeedsStrain = false;
   T nu = 1e-6, eta2 = 0;
-  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> /*r_ab*/, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool /*bound*/,
-                                const Sym3<T>& = {}, const Sym3<T>& = {}) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> /*r_ab*/, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b,
+                                                     T m_b, bool /*bound*/, const Sym3<T>& = {},
+                                                     const Sym3<T>& = {}) const {
     return (m_b * T(4) * nu * fac * r2 / ((rho_a + rho_b) * (r2 + eta2))) * v_ab;
+  }
+};
+
+// The central form of the laminar term (header): xi = 2 (d + 2).
+template <class T>
+struct ViscosityLaminarCentral {
+  static constexpr const char* kName = "laminar_central";
+  static constexpr bool kNeedsStrain = false;
+  T nu = 1e-6, eta2 = 0, xi = 10;
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b,
+                                                     bool /*bound*/, const Sym3<T>& = {}, const Sym3<T>& = {}) const {
+    return (m_b * T(2) * xi * nu * fac * core::dot(v_ab, r_ab) / ((rho_a + rho_b) * (r2 + eta2))) * r_ab;
   }
 };
 
@@ -80,8 +105,8 @@ struct ViscosityLaminarSps {
   static constexpr const char* kName = "laminar_sps";
   static constexpr bool kNeedsStrain = true;
   ViscosityLaminar<T> laminar;
-  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b, bool bound,
-                                const Sym3<T>& tau_a, const Sym3<T>& tau_b) const {
+  MILLSIM_HD MILLSIM_FORCE_INLINE Vec3<T> operator()(Vec3<T> r_ab, Vec3<T> v_ab, T r2, T fac, T rho_a, T rho_b, T m_b,
+                                                     bool bound, const Sym3<T>& tau_a, const Sym3<T>& tau_b) const {
     Sym3<T> t = tau_a;
     t += tau_b;
     return laminar(r_ab, v_ab, r2, fac, rho_a, rho_b, m_b, bound) + (m_b * fac / (rho_a * rho_b)) * t.dot(r_ab);
@@ -103,17 +128,20 @@ MILLSIM_HD MILLSIM_FORCE_INLINE void addStrain(Sym3<T>& s, Vec3<T> v_ba, Vec3<T>
 // SPS stress tau (Pa) of a particle from its strain rate S and density.
 template <class T>
 struct SpsStress {
-  T smag = 0;   // (Cs dp)^2
-  T blin = 0;   // 2/3 C_I dp^2
+  T smag = 0;  // (Cs dp)^2
+  T blin = 0;  // 2/3 C_I dp^2
   MILLSIM_HD Sym3<T> operator()(const Sym3<T>& s, T rho) const {
     const T s2 = s.xx * s.xx + s.yy * s.yy + s.zz * s.zz + T(2) * (s.xy * s.xy + s.xz * s.xz + s.yz * s.yz);
     const T mag = std::sqrt(T(2) * s2);  // |S|
     const T nu_sps = smag * mag;
     const T tr3 = (s.xx + s.yy + s.zz) / T(3);
     const T iso = -blin * mag * mag;
-    return {rho * (T(2) * nu_sps * (s.xx - tr3) + iso), rho * (T(2) * nu_sps * (s.yy - tr3) + iso),
-            rho * (T(2) * nu_sps * (s.zz - tr3) + iso), rho * T(2) * nu_sps * s.xy,
-            rho * T(2) * nu_sps * s.xz,                 rho * T(2) * nu_sps * s.yz};
+    return {rho * (T(2) * nu_sps * (s.xx - tr3) + iso),
+            rho * (T(2) * nu_sps * (s.yy - tr3) + iso),
+            rho * (T(2) * nu_sps * (s.zz - tr3) + iso),
+            rho * T(2) * nu_sps * s.xy,
+            rho * T(2) * nu_sps * s.xz,
+            rho * T(2) * nu_sps * s.yz};
   }
 };
 

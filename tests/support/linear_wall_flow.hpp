@@ -25,8 +25,9 @@ namespace millsim::testing {
 // deeper layers too little shear, and the first rows change by ~dt nu gamma / dp.
 // turning: the tank's walls turn at gamma about its centre and the fluid turns with them (a
 // rigid rotation, linear too): every wall particle must mirror the fluid about the wall's
-// velocity at the mirror plane, not its own a layer deeper (which over-turns it by gamma |g|).
-// Then the whole tank is checked, walls and corners included.
+// velocity at the mirror plane, not its own a layer deeper (which over-turns it by gamma |g|);
+// no_slip mirrors it in the wall's turning frame, which holds it too. Then the whole tank is
+// checked, walls and corners included.
 inline double linearWallFlowChange(const std::string& wall_velocity, bool turning = false, bool cuda = false) {
   const double dp = 0.01, rho0 = 1000, L = 0.12, gamma = 1.0, nu = 1e-3, dt = 1e-4;
   const sph::Box box{{0, 0, 0}, {L, L, 0}};

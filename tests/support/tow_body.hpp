@@ -1,6 +1,8 @@
 #pragma once
-// Towing a body through fluid at rest (the towed cylinder and towed sphere tests): body 0 of an
-// SPH engine moves at a constant velocity from `centre`, and the fluid's force on it is averaged
+// Towing a body through fluid at rest (the towed cylinder and towed sphere tests), or spinning
+// it in place (the rotating sphere): body 0 of an SPH engine moves at a constant velocity from
+// `centre` and turns at a constant rate `omega` (its particles keep their offsets: a sphere's
+// lattice does not turn, its surface moves), and the fluid's force and torque on it are averaged
 // over t_avg < t <= t_end (after the start-up transient).
 #include <algorithm>
 #include <array>
@@ -11,13 +13,14 @@
 namespace millsim::testing {
 
 struct TowAverage {
-  std::array<double, 3> force{};  // mean fluid force on the body over the window
+  std::array<double, 3> force{};   // mean fluid force on the body over the window
+  std::array<double, 3> torque{};  // mean fluid torque about its centre
   long long steps = 0;
 };
 
 inline TowAverage towAndAverage(sph::SphEngine& e, std::array<double, 3> centre, const std::array<double, 3>& velocity,
-                                double t_end, double t_avg) {
-  auto body = [&]() { return std::vector<sph::SphBody>{sph::SphBody{centre, velocity, {}}}; };
+                                double t_end, double t_avg, const std::array<double, 3>& omega = {}) {
+  auto body = [&]() { return std::vector<sph::SphBody>{sph::SphBody{centre, velocity, omega}}; };
   e.setBodyKinematics(body());
   e.initialize({});
   TowAverage r;
@@ -32,11 +35,15 @@ inline TowAverage towAndAverage(sph::SphEngine& e, std::array<double, 3> centre,
     ++r.steps;
     if (t > t_avg) {
       const auto load = e.bodyLoads()[0];
-      for (int k = 0; k < 3; ++k) r.force[k] += load.force[k];
+      for (int k = 0; k < 3; ++k) {
+        r.force[k] += load.force[k];
+        r.torque[k] += load.torque[k];
+      }
       ++samples;
     }
   }
   for (double& f : r.force) f /= samples > 0 ? samples : 1;
+  for (double& q : r.torque) q /= samples > 0 ? samples : 1;
   return r;
 }
 

@@ -103,6 +103,7 @@ struct SettlingCase {
   double c0 = 3.0;
   std::string integrator = "verlet";
   std::string wall_velocity = "no_slip";
+  std::string viscosity = "laminar";
   std::string csv;  // time series written here when set
 };
 
@@ -123,7 +124,7 @@ SettlingResult runSettling(const SettlingCase& c) {
   s.rho0 = c.rho0;
   s.gamma = gamma;
   s.gravity = {0, 0, 0};
-  s.viscosity = "laminar";
+  s.viscosity = c.viscosity;
   s.nu = c.nu;
   s.integrator = c.integrator;
   s.wall_velocity = c.wall_velocity;
@@ -225,10 +226,10 @@ SettlingResult runSettling(const SettlingCase& c) {
   EXPECT_LT(t, t_max) << "the sphere did not reach the stop height";
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::printf(
-      "settling sphere: R = %.1f dp, %lld particles, %lld steps, %.1f s wall: U = %.4f m/s against %.4f "
+      "settling sphere: R = %.1f dp, %s, %lld particles, %lld steps, %.1f s wall: U = %.4f m/s against %.4f "
       "(U_inf %.4f at Re %.2f, wall factor %.3f, tau %.4f s), %+.1f%%, drift over the window %+.1f%%\n",
-      r / dp, res.particles, res.steps, res.wall_s, res.measured, res.expected, res.u_inf, res.re_inf, res.wall,
-      res.tau, 100 * (res.measured / res.expected - 1), 100 * res.steady);
+      r / dp, c.viscosity.c_str(), res.particles, res.steps, res.wall_s, res.measured, res.expected, res.u_inf,
+      res.re_inf, res.wall, res.tau, 100 * (res.measured / res.expected - 1), 100 * res.steady);
   return res;
 }
 
@@ -246,18 +247,20 @@ TEST(SettlingSphere, DISABLED_TerminalVelocityReduced) {
   expectTerminal(c);
 }
 
-// Diagnostic runs: MILLSIM_SETTLE="r_over_dp:nu:column_d[:lambda] ..." (e.g. "6:1.2e-4:12"), each printing
-// its result and writing settling_sphere_R<r>dp_nu<nu>_L<column>d.csv; asserts nothing beyond
-// the run's own checks (nothing excluded, stop height reached).
+// Diagnostic runs: MILLSIM_SETTLE="r_over_dp:nu:column_d[:lambda[:viscosity]] ..." (e.g.
+// "6:1.2e-4:12", "3:1.2e-4:20::laminar_central"), each printing its result and writing
+// settling_sphere_R<r>dp_nu<nu>_L<column>d.csv; asserts nothing beyond the run's own checks
+// (nothing excluded, stop height reached).
 TEST(SettlingSphere, DISABLED_Diagnostic) {
-  for (const auto& f : testing::envRuns("MILLSIM_SETTLE", "3:1.2e-4:20", 4)) {
+  for (const auto& f : testing::envRuns("MILLSIM_SETTLE", "3:1.2e-4:20", 5)) {
     SettlingCase c;
     c.dp = 0.5 * c.d / std::stod(f[0]);
     if (!f[1].empty()) c.nu = std::stod(f[1]);
     if (!f[2].empty()) c.length_d = std::stod(f[2]);
     if (!f[3].empty()) c.lambda = std::stod(f[3]);
+    if (!f[4].empty()) c.viscosity = f[4];
     c.csv = "settling_sphere_R" + f[0] + "dp_nu" + f[1] + "_L" + f[2] + "d" + (f[3].empty() ? "" : "_lambda" + f[3]) +
-            ".csv";
+            (f[4].empty() ? "" : "_" + f[4]) + ".csv";
     runSettling(c);
   }
 }
