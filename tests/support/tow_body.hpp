@@ -6,11 +6,36 @@
 // over t_avg < t <= t_end (after the start-up transient).
 #include <algorithm>
 #include <array>
+#include <string>
 #include <vector>
 
 #include "sph/sph_engine.hpp"
 
 namespace millsim::testing {
+
+// The set-up the body-in-viscous-fluid tests share: fluid of rho0 = 1000 kg/m3 without gravity,
+// a laminar viscosity nu, c0 = 4 m/s (their flows stay below 0.02 m/s: Mach < 0.005; the step is
+// the viscous term's limit, not the CFL one), Fourtakas density diffusion, shifting, Verlet,
+// density bounds 900-1100. The caller sets the domain (and anything it varies).
+inline sph::SphSetup viscousBodySetup(int dim, double dp, double h, double nu, const std::string& viscosity,
+                                      const std::string& wall_velocity) {
+  sph::SphSetup s;
+  s.dimension = dim;
+  s.dp = dp;
+  s.h = h;
+  s.c0 = 4.0;
+  s.rho0 = 1000;
+  s.viscosity = viscosity;
+  s.nu = nu;
+  s.wall_velocity = wall_velocity;
+  s.ddt = "fourtakas";
+  s.shifting = true;
+  s.integrator = "verlet";
+  s.gravity = {0, 0, 0};
+  s.rho_min = 900;
+  s.rho_max = 1100;
+  return s;
+}
 
 struct TowAverage {
   std::array<double, 3> force{};   // mean fluid force on the body over the window

@@ -47,23 +47,10 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   const double a = 0.003, re = 0.05, nu = 1e-3, rho0 = 1000, mu = rho0 * nu;
   const double dp = a / n_radius, R = r_over_a * a;
   const double omega = re * nu / (a * a);
-  const double c0 = 4.0;  // the wall speed Omega a = 0.017 m/s: Mach 0.004
   const auto wall0 = std::chrono::steady_clock::now();
-  sph::SphSetup s;
-  s.dimension = dim;
-  s.dp = dp;
-  s.h = (dim == 3 ? 0.8 * std::sqrt(3.0) : std::sqrt(2.0)) * dp;  // as the towed sphere / cylinder
-  s.c0 = c0;
-  s.rho0 = rho0;
-  s.viscosity = viscosity;
-  s.nu = nu;
-  s.wall_velocity = wall_velocity;
-  s.ddt = "fourtakas";
-  s.shifting = true;
-  s.integrator = "verlet";
-  s.gravity = {0, 0, 0};
-  s.rho_min = 900;
-  s.rho_max = 1100;
+  // h as the towed sphere / cylinder; the wall speed Omega a = 0.017 m/s.
+  const double h = (dim == 3 ? 0.8 * std::sqrt(3.0) : std::sqrt(2.0)) * dp;
+  sph::SphSetup s = testing::viscousBodySetup(dim, dp, h, nu, viscosity, wall_velocity);
   const double m = R + 5 * dp;
   s.domain_lo = {-m, -m, dim == 3 ? -m : -1.0};
   s.domain_hi = {m, m, dim == 3 ? m : 1.0};

@@ -48,23 +48,8 @@ TowResult towCylinder(int n_radius, const std::string& wall_velocity, const std:
   const double U = re * nu / (2 * a);
   // Pressure scale of the drag, F / (2a) ~ 22 mu U / (2a) = 17 Pa here: c0 = 4 m/s keeps it
   // at 0.1% of rho0 c0^2 (the step is the viscous term's limit anyway, not the CFL one).
-  const double c0 = 4.0;
-  sph::SphSetup s;
-  s.dimension = 2;
-  s.dp = dp;
-  s.h = std::sqrt(2.0) * dp;
-  s.c0 = c0;
-  s.rho0 = rho0;
-  s.viscosity = "laminar";
-  s.nu = nu;
-  s.wall_velocity = wall_velocity;
+  sph::SphSetup s = testing::viscousBodySetup(2, dp, std::sqrt(2.0) * dp, nu, "laminar", wall_velocity);
   s.boundary = boundary;
-  s.ddt = "fourtakas";
-  s.shifting = true;
-  s.integrator = "verlet";
-  s.gravity = {0, 0, 0};
-  s.rho_min = 900;
-  s.rho_max = 1100;
   s.domain_lo = {-W, -W, -1};
   s.domain_hi = {2 * W, L + W, 1};
 

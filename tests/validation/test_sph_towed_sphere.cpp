@@ -51,25 +51,10 @@ TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool s
   const double a = 0.003, lambda = 0.25, re = 0.05, nu = 1e-3, rho0 = 1000;
   const double dp = a / n_radius, r0 = a / lambda, length = 8 * 2 * a;
   const double U = re * nu / (2 * a);
-  // Pressure scale of the drag, 6 mu U K / a = 33 Pa: 0.2% of rho0 c0^2 at c0 = 4 m/s (the
-  // step is the viscous term's limit, not the CFL one).
-  const double c0 = 4.0;
+  // Pressure scale of the drag, 6 mu U K / a = 33 Pa: 0.2% of rho0 c0^2 at c0 = 4 m/s.
   const auto wall0 = std::chrono::steady_clock::now();
-  sph::SphSetup s;
-  s.dimension = 3;
-  s.dp = dp;
-  s.h = h_over_dp * dp;
-  s.c0 = c0;
-  s.rho0 = rho0;
-  s.viscosity = viscosity;
-  s.nu = nu;
-  s.wall_velocity = wall_velocity;
-  s.ddt = "fourtakas";
+  sph::SphSetup s = testing::viscousBodySetup(3, dp, h_over_dp * dp, nu, viscosity, wall_velocity);
   s.shifting = shifting;
-  s.integrator = "verlet";
-  s.gravity = {0, 0, 0};
-  s.rho_min = 900;
-  s.rho_max = 1100;
   const double m = r0 + 5 * dp;
   s.domain_lo = {-m, -m, -5 * dp};
   s.domain_hi = {m, m, length + 5 * dp};
