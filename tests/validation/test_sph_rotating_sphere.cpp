@@ -42,8 +42,37 @@ struct SpinResult {
   double wall_s = 0;
 };
 
+// A body shell of `layers` spherical (2D: circular) layers at radii a - (k + 1/2) dp, each with
+// points about dp apart (Fibonacci spiral in 3D), instead of the cut cube lattice of
+// addSphereShell: a smooth surface at every resolution, to tell the lattice cut's effect apart.
+void addLayeredShell(sph::SphHostState& st, double a, double dp, int dim, int layers, double rho0) {
+  st.body.resize(st.size(), -1);
+  st.offset.resize(3 * st.size(), 0.0);
+  const double pi = std::acos(-1.0), golden = pi * (3 - std::sqrt(5.0));
+  for (int k = 0; k < layers; ++k) {
+    const double r = a - (k + 0.5) * dp;
+    if (r <= 0) break;
+    const int n = std::max(1, static_cast<int>(std::lround(dim == 3 ? 4 * pi * r * r / (dp * dp) : 2 * pi * r / dp)));
+    for (int q = 0; q < n; ++q) {
+      std::array<double, 3> x{};
+      if (dim == 3) {
+        const double zc = 1 - (2 * q + 1.0) / n, rc = std::sqrt(1 - zc * zc), phi = golden * q;
+        x = {r * rc * std::cos(phi), r * rc * std::sin(phi), r * zc};
+      } else {
+        x = {r * std::cos(2 * pi * q / n), r * std::sin(2 * pi * q / n), 0.0};
+      }
+      st.pos.insert(st.pos.end(), x.begin(), x.end());
+      st.vel.insert(st.vel.end(), {0.0, 0.0, 0.0});
+      st.rho.push_back(rho0);
+      st.code.push_back(sph::kBoundBody);
+      st.body.push_back(0);
+      st.offset.insert(st.offset.end(), x.begin(), x.end());
+    }
+  }
+}
+
 SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string& wall_velocity,
-                      const std::string& viscosity) {
+                      const std::string& viscosity, bool layered = false) {
   const double a = 0.003, re = 0.05, nu = 1e-3, rho0 = 1000, mu = rho0 * nu;
   const double dp = a / n_radius, R = r_over_a * a;
   const double omega = re * nu / (a * a);
@@ -75,7 +104,10 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
         st.code.push_back(code);
       }
   const std::array<double, 3> c{0, 0, 0};
-  sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0);
+  if (layered)
+    addLayeredShell(st, a, dp, dim, 3, rho0);
+  else
+    sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0);
 
   auto e = sph::makeSphEngineOmp(s);
   e->setState(st);
@@ -95,10 +127,10 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   r.excluded = sums.excluded_density + sums.excluded_domain;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::printf(
-      "rotating %s, a = %d dp, R = %.2f a, %s, wall_velocity = %s: %lld particles, %lld steps, %.0f s: "
+      "rotating %s, a = %d dp, R = %.2f a, %s, wall_velocity = %s, %s shell: %lld particles, %lld steps, %.0f s: "
       "torque / analytic %.4f, off-axis %.2e\n",
-      dim == 3 ? "sphere" : "cylinder", n_radius, r_over_a, viscosity.c_str(), wall_velocity.c_str(), r.particles,
-      r.steps, r.wall_s, r.torque_ratio, r.off_axis);
+      dim == 3 ? "sphere" : "cylinder", n_radius, r_over_a, viscosity.c_str(), wall_velocity.c_str(),
+      layered ? "layered" : "lattice", r.particles, r.steps, r.wall_s, r.torque_ratio, r.off_axis);
   return r;
 }
 
@@ -122,13 +154,13 @@ TEST(SphRotatingSphere, CentralViscosityGivesTheTurningCylinderItsTorque) {
   EXPECT_LT(lo_shao.torque_ratio, 5.0 / 9.0);
 }
 
-// Diagnostic: MILLSIM_SPIN="a_over_dp[:dim[:R_over_a[:wall_velocity[:viscosity]]]] ..." (default
-// "3 4 6": 3D, R = 3 a, no-slip walls, laminar_central).
+// Diagnostic: MILLSIM_SPIN="a_over_dp[:dim[:R_over_a[:wall_velocity[:viscosity[:layered]]]]] ..."
+// (default "3 4 6": 3D, R = 3 a, no-slip walls, laminar_central, the cube-lattice shell).
 TEST(SphRotatingSphere, DISABLED_Resolution) {
-  for (const auto& f : testing::envRuns("MILLSIM_SPIN", "3 4 6", 5)) {
+  for (const auto& f : testing::envRuns("MILLSIM_SPIN", "3 4 6", 6)) {
     const SpinResult r =
         spinSphere(f[1].empty() ? 3 : std::stoi(f[1]), std::stoi(f[0]), f[2].empty() ? 3.0 : std::stod(f[2]),
-                   f[3].empty() ? "no_slip" : f[3], f[4].empty() ? "laminar_central" : f[4]);
+                   f[3].empty() ? "no_slip" : f[3], f[4].empty() ? "laminar_central" : f[4], f[5] == "layered");
     EXPECT_EQ(r.excluded, 0);
   }
 }
