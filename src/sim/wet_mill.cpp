@@ -57,7 +57,9 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
         const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
-        if (std::hypot(x, y) > R - 0.5 * dp || sph::insideLifter(drum, x, y, 0.5 * dp)) continue;
+        // The walls (addDrumWalls) are the points of this lattice with r >= R or inside a
+        // lifter: the slurry takes every other point, dp from the first wall particle.
+        if (std::hypot(x, y) >= R || sph::insideLifter(drum, x, y, 0.0)) continue;
         index_of[(static_cast<std::size_t>(k) * row + (j + n)) * row + (i + n)] = static_cast<int>(candidates.size());
         candidates.push_back({x, y, z});
       }
@@ -69,7 +71,8 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   };
   for (std::size_t b = 0; b < m_balls; ++b) {
     const double cx = balls.pos[3 * b], cy = balls.pos[3 * b + 1], cz = balls.pos[3 * b + 2];
-    const double clear = balls.radius[b] + 0.5 * dp;
+    // The ball's shell is cut from this lattice too (below): the slurry starts at its radius.
+    const double clear = balls.radius[b];
     const auto [i0, i1] = span(cx - clear, cx + clear, -n, n - 1);
     const auto [j0, j1] = span(cy - clear, cy + clear, -n, n - 1);
     const auto [k0, k1] = span(cz - clear, cz + clear, 0, nz - 1);
@@ -113,7 +116,8 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   for (std::size_t b = 0; b < m_balls; ++b) {
     const std::array<double, 3> c{balls.pos[3 * b], balls.pos[3 * b + 1], balls.pos[3 * b + 2]};
     const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)));
-    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0);
+    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0,
+                        std::array<double, 3>{0.5 * dp, 0.5 * dp, 0.5 * dp});
   }
   if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
   m_particles = st.size();

@@ -126,20 +126,24 @@ void addDrumWalls(SphHostState& s, const DrumGeometry& d, double dp, int layers,
 }
 
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
-                    double rho0) {
+                    double rho0, const std::optional<std::array<double, 3>>& lattice_origin) {
   // Body data for the particles already there (walls, fluid): none.
   s.body.resize(s.size(), -1);
   s.offset.resize(3 * s.size(), 0.0);
+  // Lattice points o + (i, j, k) dp, o = c (a point at the centre) or the given origin moved by
+  // whole steps next to c, so that i, j, k in [-n, n] cover the sphere either way.
+  std::array<double, 3> o = c;
+  if (lattice_origin)
+    for (int q = 0; q < 3; ++q) o[q] = (*lattice_origin)[q] + std::round((c[q] - (*lattice_origin)[q]) / dp) * dp;
   const int n = static_cast<int>(std::ceil(r / dp)) + 1;
   const double inner = r - layers * dp;
   for (int k = dim == 2 ? 0 : -n; k <= (dim == 2 ? 0 : n); ++k)
     for (int j = -n; j <= n; ++j)
       for (int i = -n; i <= n; ++i) {
-        // A lattice with a point at the centre: the shell is symmetric about it.
-        const double dx = i * dp, dy = j * dp, dz = k * dp;
+        const double dx = o[0] + i * dp - c[0], dy = o[1] + j * dp - c[1], dz = dim == 2 ? 0.0 : o[2] + k * dp - c[2];
         const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
         if (d >= r || d < inner) continue;
-        // Ghost: radially across the surface r (the fluid is carved to r + dp/2).
+        // Ghost: radially across the surface r.
         const double out = d > 0 ? 2 * (r - d) / d : 0.0;
         add(s, c[0] + dx, c[1] + dy, dim == 2 ? 0.0 : c[2] + dz, kBoundBody, rho0, {out * dx, out * dy, out * dz});
         s.body.push_back(body);

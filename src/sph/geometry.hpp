@@ -4,6 +4,7 @@
 // faces in `layers` rows at dp/2, 3dp/2, ..., so fluid and wall particles start dp apart and the
 // wall surface is the box face. In 2D z is ignored (all particles at z = 0).
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "sph/sph_engine.hpp"
@@ -44,10 +45,18 @@ std::array<double, 3> drumGhost(const DrumGeometry& drum, double x, double y, do
 bool insideLifter(const DrumGeometry& drum, double x, double y, double clearance);
 
 // Appends the shell of a spherical body (a disc in 2D) of radius r centred at c: the points of
-// a lattice of spacing dp centred on c with r - layers dp <= |x - c| < r, as body particles
-// (code kBoundBody) of body `body`, with their offsets from c.
+// a lattice of spacing dp with r - layers dp <= |x - c| < r, as body particles (code kBoundBody)
+// of body `body`, with their offsets from c and ghosts mirrored radially across r. The lattice:
+// - by default one with a point at c, the shell symmetric about its centre; the fluid around it
+//   is carved to r + dp/2 (carveFluid) and lies on another lattice;
+// - given `lattice_origin`, the fluid's own lattice, lattice_origin + (i, j, k) dp, with the
+//   fluid carved to r. Then the first fluid particle stands dp from the outermost shell one in
+//   every direction, as fluid particles stand from each other. Why: two lattices leave gaps of 1
+//   to 2 dp, by direction, which move the body's effective surface inwards by a fraction of dp:
+//   a sphere of 3 dp radius turning in a shell then feels 0.73 of the analytic torque, a towed
+//   one 0.80 of Stokes' drag; on one lattice 1.16 and 1.06 (docs/validation.md, "Settling sphere").
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
-                    double rho0);
+                    double rho0, const std::optional<std::array<double, 3>>& lattice_origin = std::nullopt);
 
 // Removes the fluid particles closer than `clearance` to c (the space of a body).
 void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearance);
