@@ -117,7 +117,7 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
     const std::array<double, 3> c{balls.pos[3 * b], balls.pos[3 * b + 1], balls.pos[3 * b + 2]};
     const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)));
     sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0,
-                        std::array<double, 3>{0.5 * dp, 0.5 * dp, 0.5 * dp});
+                        sph::cellCentredLattice(dp));
   }
   if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
   m_particles = st.size();

@@ -54,9 +54,13 @@ bool insideLifter(const DrumGeometry& drum, double x, double y, double clearance
 //   every direction, as fluid particles stand from each other. Why: two lattices leave gaps of 1
 //   to 2 dp, by direction, which move the body's effective surface inwards by a fraction of dp:
 //   a sphere of 3 dp radius turning in a shell then feels 0.73 of the analytic torque, a towed
-//   one 0.80 of Stokes' drag; on one lattice 1.16 and 1.06 (docs/validation.md, "Settling sphere").
+//   one 0.80 of Stokes' drag; on one lattice 1.16 and 1.06 (docs/validation.md, "One lattice").
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
                     double rho0, const std::optional<std::array<double, 3>>& lattice_origin = std::nullopt);
+
+// The origin of the lattice that addDrumWalls and the drum's fluid use, points at (i + 1/2) dp:
+// the lattice_origin to cut a body's shell from the same lattice.
+inline std::array<double, 3> cellCentredLattice(double dp) { return {0.5 * dp, 0.5 * dp, 0.5 * dp}; }
 
 // Removes the fluid particles closer than `clearance` to c (the space of a body).
 void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearance);

@@ -155,7 +155,7 @@ SettlingResult runSettling(const SettlingCase& c) {
     if (code == sph::kBoundMoving) code = sph::kBoundFixed;
   const std::array<double, 3> start{0, 0, length - c.start_below_lid_d * c.d};
   sph::carveFluid(st, start, r);
-  sph::addSphereShell(st, start, r, dp, 3, 3, 0, c.rho0, std::array<double, 3>{0.5 * dp, 0.5 * dp, 0.5 * dp});
+  sph::addSphereShell(st, start, r, dp, 3, 3, 0, c.rho0, sph::cellCentredLattice(dp));
 
   testing::DemScene dsc;
   dsc.density = c.s * c.rho0;

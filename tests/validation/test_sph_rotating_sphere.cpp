@@ -15,10 +15,10 @@
 // in 3D; at Re = Omega a^2 / nu = 0.05 the secondary (centrifugal) circulation changes the
 // torque by O(Re^2).
 //
-// The body is a shell of 3 layers of the fluid's lattice (as a wet-mill ball carries), the fluid
-// filling a <= |x| < R; the container's wall: 3 layers of the same lattice at R <= |x| < R + 3 dp. Started impulsively;
-// the slowest mode of the gap decays about as exp(-pi^2 nu t / (R - a)^2), so the torque is averaged over 0.7 .. 1.0 (R
-// - a)^2 / nu.
+// The body is a shell of 3 layers of the fluid's lattice (as a wet-mill ball carries), the
+// fluid filling a <= |x| < R; the container's wall: 3 layers of the same lattice at R <= |x| <
+// R + 3 dp. Started impulsively; the slowest mode of the gap decays about as exp(-pi^2 nu t /
+// (R - a)^2), so the torque is averaged over 0.7 .. 1.0 (R - a)^2 / nu.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -112,7 +112,7 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   if (shell == "layered")
     addLayeredShell(st, a, dp, dim, 3, rho0);
   else if (shared)
-    sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0, std::array<double, 3>{0.5 * dp, 0.5 * dp, 0.5 * dp});
+    sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0, sph::cellCentredLattice(dp));
   else
     sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0);
 

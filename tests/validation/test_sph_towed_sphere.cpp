@@ -47,13 +47,12 @@ struct TowSphereResult {
   long long steps = 0, particles = 0, excluded = 0;
 };
 
-// lattice: "point" the shell's lattice has a point at the centre, offset by dp/2 from the fluid's,
-// and the fluid is carved to a + dp/2 (the set-up before 2026-12-05); "shared": the shell cut
-// from the fluid's lattice (the
-// centre at a cell corner of it), the fluid carved to a; "shifted": the centre moved by (dp/2,
-// dp/2, dp/2), on a fluid lattice point, the shell again from the fluid's lattice. A suffix
-// "+tube" also fills the fluid to the tube's wall (r < R0: one lattice there too) instead of
-// R0 - dp/2.
+// lattice: "point" the shell's lattice has a point at the centre, offset by dp/2 from the
+// fluid's, and the fluid is carved to a + dp/2 (the set-up before 2026-12-05); "shared": the
+// shell cut from the fluid's lattice (the centre at a cell corner of it), the fluid carved to a;
+// "shifted": the centre moved by (dp/2, dp/2, dp/2), on a fluid lattice point, the shell again
+// from the fluid's lattice. A suffix "+tube" also fills the fluid to the tube's wall (r < R0:
+// one lattice there too) instead of R0 - dp/2.
 TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool shifting, double h_over_dp,
                           const std::string& viscosity, const std::string& lattice) {
   const double a = 0.003, lambda = 0.25, re = 0.05, nu = 1e-3, rho0 = 1000;
@@ -91,7 +90,7 @@ TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool s
     if (shell == "shifted")
       for (double& x : c) x += 0.5 * dp;
     sph::carveFluid(st, c, a);
-    sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0, std::array<double, 3>{0.5 * dp, 0.5 * dp, 0.5 * dp});
+    sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0, sph::cellCentredLattice(dp));
   } else if (shell == "point") {
     sph::carveFluid(st, c, a + 0.5 * dp);
     sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0);
