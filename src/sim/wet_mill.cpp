@@ -1,6 +1,7 @@
 #include "sim/wet_mill.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -50,13 +51,15 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   // bounding box: O(points + balls x box), not O(points x balls) (a 2 m mill has 1e7 points and
   // 3e4 balls). The points and their order are the same as a scan of every point would give.
   std::vector<FillPoint> candidates;
-  const int n = static_cast<int>(std::ceil(R / dp)), nz = static_cast<int>(std::floor(L / dp + 1e-9));
+  const std::array<double, 3> origin = sph::cellCentredLattice(dp);  // the walls' and the shells' lattice too
+  const int n = static_cast<int>(std::ceil(R / dp)), nz = sph::drumAxialLayers(L, dp);
   const std::size_t row = 2 * static_cast<std::size_t>(n);
   std::vector<int> index_of(row * row * static_cast<std::size_t>(std::max(nz, 0)), -1);
   for (int k = 0; k < nz; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
-        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        const double x = sph::latticeCoord(origin[0], dp, i), y = sph::latticeCoord(origin[1], dp, j),
+                     z = sph::latticeCoord(origin[2], dp, k);
         // The walls (addDrumWalls) are the points of this lattice with r >= R or inside a
         // lifter: the slurry takes every other point, dp from the first wall particle.
         if (std::hypot(x, y) >= R || sph::insideLifter(drum, x, y, 0.0)) continue;
@@ -71,8 +74,8 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   };
   for (std::size_t b = 0; b < m_balls; ++b) {
     const double cx = balls.pos[3 * b], cy = balls.pos[3 * b + 1], cz = balls.pos[3 * b + 2];
-    // The ball's shell is cut from this lattice too (below): the slurry starts at its radius.
-    const double clear = balls.radius[b];
+    // The ball's shell is cut from this lattice too (below): the slurry starts where it ends.
+    const double clear = sph::latticeCutRadius({cx, cy, cz}, balls.radius[b], dp, 3, origin);
     const auto [i0, i1] = span(cx - clear, cx + clear, -n, n - 1);
     const auto [j0, j1] = span(cy - clear, cy + clear, -n, n - 1);
     const auto [k0, k1] = span(cz - clear, cz + clear, 0, nz - 1);
@@ -82,7 +85,7 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
           const int c = index_of[(static_cast<std::size_t>(k) * row + (j + n)) * row + (i + n)];
           if (c < 0) continue;
           const double dx = candidates[c].x - cx, dy = candidates[c].y - cy, dz = candidates[c].z - cz;
-          if (dx * dx + dy * dy + dz * dz < clear * clear) free[c] = 0;
+          if (sph::insideRadius(dx, dy, dz, clear)) free[c] = 0;  // the shell's own test, below
         }
   }
   std::vector<FillPoint> fluid;
@@ -115,9 +118,9 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
   sph::addDrumWalls(st, drum, dp, layers, p.rho0);
   for (std::size_t b = 0; b < m_balls; ++b) {
     const std::array<double, 3> c{balls.pos[3 * b], balls.pos[3 * b + 1], balls.pos[3 * b + 2]};
-    const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)));
-    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0,
-                        sph::cellCentredLattice(dp));
+    // The whole ball when it is at most `layers` deep (its cut can lie up to dp/2 beyond r).
+    const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)) + 1);
+    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0, origin);
   }
   if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
   m_particles = st.size();

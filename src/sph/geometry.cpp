@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "sph/sph_kernels.hpp"
 
@@ -41,8 +42,8 @@ void fillFluidBox(SphHostState& s, const Box& box, double dp, int dim, double rh
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i)
-        add(s, box.lo[0] + (i + 0.5) * dp, box.lo[1] + (j + 0.5) * dp, dim == 2 ? 0.0 : box.lo[2] + (k + 0.5) * dp,
-            kFluid, rho0);
+        add(s, latticeCoord(box.lo[0] + 0.5 * dp, dp, i), latticeCoord(box.lo[1] + 0.5 * dp, dp, j),
+            dim == 2 ? 0.0 : latticeCoord(box.lo[2] + 0.5 * dp, dp, k), kFluid, rho0);
 }
 
 void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layers, bool closed_top, int code,
@@ -51,7 +52,7 @@ void addTankWalls(SphHostState& s, const Box& box, double dp, int dim, int layer
   const int nz = dim == 2 ? 1 : rows(box.lo[2], box.hi[2], dp);
   // Index ranges including the wall layers: i in [-layers, nx + layers), same for j, k.
   const int L = layers;
-  auto coord = [&](int axis, int i) { return box.lo[axis] + (i + 0.5) * dp; };
+  auto coord = [&](int axis, int i) { return latticeCoord(box.lo[axis] + 0.5 * dp, dp, i); };
   const int k0 = dim == 2 ? 0 : -L, k1 = dim == 2 ? 1 : nz + L;
   const int j1 = closed_top ? ny + L : ny;
   for (int k = k0; k < k1; ++k)
@@ -109,20 +110,62 @@ std::array<double, 3> drumGhost(const DrumGeometry& d, double x, double y, doubl
   return g;
 }
 
+int drumAxialLayers(double length, double dp) {
+  // (k + 1/2) dp < L for k < L / dp - 1/2; the 1e-9 keeps a length of a whole number of dp
+  // (L / dp = 30 up to rounding) at that number, its last layer dp/2 inside the plate.
+  return std::max(0, static_cast<int>(std::ceil(length / dp - 0.5 - 1e-9)));
+}
+
 void addDrumWalls(SphHostState& s, const DrumGeometry& d, double dp, int layers, double rho0) {
   const double outer = d.radius + layers * dp;
   const int n = static_cast<int>(std::ceil(outer / dp));
-  const int nz0 = -layers, nz1 = static_cast<int>(std::floor(d.length / dp + 1e-9)) + layers;
-  for (int k = nz0; k < nz1; ++k)
+  const int nz = drumAxialLayers(d.length, dp);
+  for (int k = -layers; k < nz + layers; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
-        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        const double x = latticeCoord(0.5 * dp, dp, i), y = latticeCoord(0.5 * dp, dp, j),
+                     z = latticeCoord(0.5 * dp, dp, k);
         const double r = std::hypot(x, y);
         if (r >= outer) continue;
-        const bool plate = z < 0 || z > d.length;
+        const bool plate = k < 0 || k >= nz;
         const bool shell = r >= d.radius;
         if (plate || shell || insideLifter(d, x, y, 0.0)) add(s, x, y, z, kBoundMoving, rho0, drumGhost(d, x, y, z));
       }
+}
+
+double latticeCutRadius(const std::array<double, 3>& c, double r, double dp, int dim,
+                        const std::array<double, 3>& lattice_origin) {
+  std::array<long, 3> m0{};
+  for (int q = 0; q < 3; ++q) m0[q] = std::lround((c[q] - lattice_origin[q]) / dp);
+  // Squared distances of the points within r + dp: the best cut lies within dp of r (a shell of
+  // points at r < d < r + dp holds ~4 pi r^2 / dp^2 points, more than any miscount of the cut at r).
+  const int n = static_cast<int>(std::ceil(r / dp)) + 2;
+  const double reach2 = (r + dp) * (r + dp);
+  std::vector<double> d2;
+  for (int k = dim == 2 ? 0 : -n; k <= (dim == 2 ? 0 : n); ++k)
+    for (int j = -n; j <= n; ++j)
+      for (int i = -n; i <= n; ++i) {
+        const double dx = latticeCoord(lattice_origin[0], dp, m0[0] + i) - c[0];
+        const double dy = latticeCoord(lattice_origin[1], dp, m0[1] + j) - c[1];
+        const double dz = dim == 2 ? 0.0 : latticeCoord(lattice_origin[2], dp, m0[2] + k) - c[2];
+        const double q = dx * dx + dy * dy + dz * dz;
+        if (q < reach2) d2.push_back(q);
+      }
+  std::sort(d2.begin(), d2.end());
+  const double pi = std::acos(-1.0);
+  const double target = dim == 2 ? pi * r * r / (dp * dp) : 4.0 / 3.0 * pi * r * r * r / (dp * dp * dp);
+  // Cut after point k - 1 (k points inside) where the distances step: points closer than 1e-9 dp
+  // in squared distance are one distance (symmetric points, up to rounding).
+  const double tie = 1e-9 * dp * dp;
+  std::size_t best = 0;
+  double best_miss = target;  // the empty cut
+  for (std::size_t k = 1; k < d2.size(); ++k) {
+    if (d2[k] - d2[k - 1] <= tie) continue;
+    const double miss = std::abs(static_cast<double>(k) - target);
+    if (miss < best_miss) best = k, best_miss = miss;
+  }
+  if (best == 0) return 0.5 * std::sqrt(d2.empty() ? r * r : d2.front());
+  return std::sqrt(0.5 * (d2[best - 1] + d2[best]));
 }
 
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
@@ -130,22 +173,34 @@ void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, d
   // Body data for the particles already there (walls, fluid): none.
   s.body.resize(s.size(), -1);
   s.offset.resize(3 * s.size(), 0.0);
-  // Lattice points o + (i, j, k) dp, o = c (a point at the centre) or the given origin moved by
-  // whole steps next to c, so that i, j, k in [-n, n] cover the sphere either way.
+  // Lattice points latticeCoord(o, dp, m0 + i), i in [-n, n], per axis: o = c and m0 = 0 (a point
+  // at the centre), or o = the given origin and m0 the index nearest c, so that the range covers
+  // the sphere either way and a point has the fluid lattice's coordinates bit for bit.
   std::array<double, 3> o = c;
-  if (lattice_origin)
-    for (int q = 0; q < 3; ++q) o[q] = (*lattice_origin)[q] + std::round((c[q] - (*lattice_origin)[q]) / dp) * dp;
-  const int n = static_cast<int>(std::ceil(r / dp)) + 1;
-  const double inner = r - layers * dp;
+  std::array<long, 3> m0{0, 0, 0};
+  // Own lattice: a point on the surface (r a whole number of steps, e.g. 10 dp: (6, 8) dp) is
+  // outside, whichever way rounding takes its distance. The fluid's lattice: cut between points.
+  double cut = r - 1e-9 * dp;
+  if (lattice_origin) {
+    for (int q = 0; q < 3; ++q) {
+      o[q] = (*lattice_origin)[q];
+      m0[q] = std::lround((c[q] - o[q]) / dp);
+    }
+    cut = latticeCutRadius(c, r, dp, dim, *lattice_origin);
+  }
+  const int n = static_cast<int>(std::ceil(cut / dp)) + 1;
+  const double inner = cut - layers * dp;
   for (int k = dim == 2 ? 0 : -n; k <= (dim == 2 ? 0 : n); ++k)
     for (int j = -n; j <= n; ++j)
       for (int i = -n; i <= n; ++i) {
-        const double dx = o[0] + i * dp - c[0], dy = o[1] + j * dp - c[1], dz = dim == 2 ? 0.0 : o[2] + k * dp - c[2];
+        const double x = latticeCoord(o[0], dp, m0[0] + i), y = latticeCoord(o[1], dp, m0[1] + j);
+        const double z = dim == 2 ? 0.0 : latticeCoord(o[2], dp, m0[2] + k);
+        const double dx = x - c[0], dy = y - c[1], dz = dim == 2 ? 0.0 : z - c[2];
+        if (!insideRadius(dx, dy, dz, cut) || (inner > 0 && insideRadius(dx, dy, dz, inner))) continue;
         const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (d >= r || d < inner) continue;
         // Ghost: radially across the surface r.
         const double out = d > 0 ? 2 * (r - d) / d : 0.0;
-        add(s, c[0] + dx, c[1] + dy, dim == 2 ? 0.0 : c[2] + dz, kBoundBody, rho0, {out * dx, out * dy, out * dz});
+        add(s, x, y, z, kBoundBody, rho0, {out * dx, out * dy, out * dz});
         s.body.push_back(body);
         s.offset.insert(s.offset.end(), {dx, dy, dz});
       }
@@ -156,7 +211,7 @@ void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearanc
   const bool bodies = s.body.size() == s.size();
   for (std::size_t i = 0; i < s.size(); ++i) {
     const double dx = s.pos[3 * i] - c[0], dy = s.pos[3 * i + 1] - c[1], dz = s.pos[3 * i + 2] - c[2];
-    if (s.code[i] == kFluid && dx * dx + dy * dy + dz * dz < clearance * clearance) continue;
+    if (s.code[i] == kFluid && insideRadius(dx, dy, dz, clearance)) continue;
     out.pos.insert(out.pos.end(), {s.pos[3 * i], s.pos[3 * i + 1], s.pos[3 * i + 2]});
     out.vel.insert(out.vel.end(), {s.vel[3 * i], s.vel[3 * i + 1], s.vel[3 * i + 2]});
     out.rho.push_back(s.rho[i]);
@@ -169,6 +224,11 @@ void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearanc
     }
   }
   s = std::move(out);
+}
+
+void carveFluidForShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim,
+                        const std::array<double, 3>& lattice_origin) {
+  carveFluid(s, c, latticeCutRadius(c, r, dp, dim, lattice_origin));
 }
 
 void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma,

@@ -81,8 +81,10 @@ inline MomentumBox makeMomentumBox(const std::string& integrator, bool dcdem = f
   sph::addTankWalls(st, box, dp, 3, 3, true, sph::kBoundFixed, rho0);
   for (std::size_t b = 0; b < balls.size(); ++b) {
     const std::array<double, 3> c{balls[b].x, balls[b].y, balls[b].z};
-    sph::carveFluid(st, c, balls[b].r + 0.5 * dp);
-    sph::addSphereShell(st, c, balls[b].r, dp, 3, 3, static_cast<int>(b), rho0);
+    // The shell cut from the fluid's lattice, the fluid carved where it ends (as the wet mill).
+    const std::array<double, 3> origin = sph::cellCentredLattice(dp, box.lo);
+    sph::carveFluidForShell(st, c, balls[b].r, dp, 3, origin);
+    sph::addSphereShell(st, c, balls[b].r, dp, 3, 3, static_cast<int>(b), rho0, origin);
   }
   // The walls become body particles of body 2, held at the box's centre.
   const std::array<double, 3> centre{0.5 * L, 0.5 * L, z0 + 0.5 * L};

@@ -139,11 +139,12 @@ SettlingResult runSettling(const SettlingCase& c) {
   // cut from the same lattice (as the wet mill sets up its balls): the fluid fills r < rc and
   // starts at the sphere's radius, dp from the first wall or shell particle everywhere.
   sph::SphHostState st;
-  const int n = static_cast<int>(std::ceil(rc / dp)), nz = static_cast<int>(std::floor(length / dp + 1e-9));
+  const int n = static_cast<int>(std::ceil(rc / dp)), nz = sph::drumAxialLayers(length, dp);
   for (int k = 0; k < nz; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
-        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        const double x = sph::latticeCoord(0.5 * dp, dp, i), y = sph::latticeCoord(0.5 * dp, dp, j),
+                     z = sph::latticeCoord(0.5 * dp, dp, k);
         if (std::hypot(x, y) >= rc) continue;
         st.pos.insert(st.pos.end(), {x, y, z});
         st.vel.insert(st.vel.end(), {0.0, 0.0, 0.0});
@@ -154,7 +155,7 @@ SettlingResult runSettling(const SettlingCase& c) {
   for (int& code : st.code)
     if (code == sph::kBoundMoving) code = sph::kBoundFixed;
   const std::array<double, 3> start{0, 0, length - c.start_below_lid_d * c.d};
-  sph::carveFluid(st, start, r);
+  sph::carveFluidForShell(st, start, r, dp, 3, sph::cellCentredLattice(dp));
   sph::addSphereShell(st, start, r, dp, 3, 3, 0, c.rho0, sph::cellCentredLattice(dp));
 
   testing::DemScene dsc;

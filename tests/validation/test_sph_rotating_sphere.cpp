@@ -25,6 +25,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <string>
 
 #include "sph/geometry.hpp"
@@ -46,7 +47,8 @@ struct SpinResult {
 // A body shell of `layers` spherical (2D: circular) layers at radii a - (k + 1/2) dp, each with
 // points about dp apart (Fibonacci spiral in 3D), instead of the cut cube lattice of
 // addSphereShell: a smooth surface at every resolution, to tell the lattice cut's effect apart.
-void addLayeredShell(sph::SphHostState& st, double a, double dp, int dim, int layers, double rho0) {
+void addLayeredShell(sph::SphHostState& st, const std::array<double, 3>& c, double a, double dp, int dim, int layers,
+                     double rho0) {
   st.body.resize(st.size(), -1);
   st.offset.resize(3 * st.size(), 0.0);
   const double pi = std::acos(-1.0), golden = pi * (3 - std::sqrt(5.0));
@@ -62,7 +64,7 @@ void addLayeredShell(sph::SphHostState& st, double a, double dp, int dim, int la
       } else {
         x = {r * std::cos(2 * pi * q / n), r * std::sin(2 * pi * q / n), 0.0};
       }
-      st.pos.insert(st.pos.end(), x.begin(), x.end());
+      st.pos.insert(st.pos.end(), {c[0] + x[0], c[1] + x[1], c[2] + x[2]});
       st.vel.insert(st.vel.end(), {0.0, 0.0, 0.0});
       st.rho.push_back(rho0);
       st.code.push_back(sph::kBoundBody);
@@ -72,8 +74,15 @@ void addLayeredShell(sph::SphHostState& st, double a, double dp, int dim, int la
   }
 }
 
+// The centre's offset from a lattice cell corner, in dp: a generic one. At a corner (offset 0,
+// the symmetric set-up) the lattice cut of a = 3 dp holds 136 points where the sphere's volume
+// is 113.1 dp^3, an effective radius (volume-matched) of 1.063 a, at 4 dp 280 points, 1.015 a;
+// at this offset 112 and 267 points, 0.997 a and 0.999 a (docs/validation.md, "One lattice").
+constexpr std::array<double, 3> kGenericOffset{0.31, 0.17, 0.43};
+
 SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string& wall_velocity,
-                      const std::string& viscosity, const std::string& shell = "shared") {
+                      const std::string& viscosity, const std::string& shell = "shared",
+                      const std::array<double, 3>& offset_dp = kGenericOffset) {
   const double a = 0.003, re = 0.05, nu = 1e-3, rho0 = 1000, mu = rho0 * nu;
   const double dp = a / n_radius, R = r_over_a * a;
   const double omega = re * nu / (a * a);
@@ -81,9 +90,11 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   // h as the towed sphere / cylinder; the wall speed Omega a = 0.017 m/s.
   const double h = (dim == 3 ? 0.8 * std::sqrt(3.0) : std::sqrt(2.0)) * dp;
   sph::SphSetup s = testing::viscousBodySetup(dim, dp, h, nu, viscosity, wall_velocity);
-  const double m = R + 5 * dp;
+  const double m = R + 6 * dp;
   s.domain_lo = {-m, -m, dim == 3 ? -m : -1.0};
   s.domain_hi = {m, m, dim == 3 ? m : 1.0};
+  // Body and container centred on c, the lattice's cell corner nearest the origin moved by offset_dp.
+  const std::array<double, 3> c{offset_dp[0] * dp, offset_dp[1] * dp, dim == 3 ? offset_dp[2] * dp : 0.0};
 
   // Fluid and container wall on the lattice (i + 1/2) dp. Shell "shared" (the wet mill's set-up):
   // the body's shell cut from the same lattice, the fluid filling a <= |x| < R, dp from the first
@@ -91,16 +102,19 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   // carved to a + dp/2 and filled to R - dp/2 (the set-up before 2026-12-05); "layered": above.
   sph::SphHostState st;
   const bool shared = shell == "shared";
-  const int n = static_cast<int>(std::ceil((R + 3 * dp) / dp));
+  const int n = static_cast<int>(std::ceil((R + 4 * dp) / dp));  // 3 wall layers, the offset
+  const double cut = sph::latticeCutRadius(c, a, dp, dim, sph::cellCentredLattice(dp));  // the shell's
   const int k0 = dim == 3 ? -n : 0, k1 = dim == 3 ? n : 1;
   for (int k = k0; k < k1; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
-        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = dim == 3 ? (k + 0.5) * dp : 0.0;
-        const double d = std::sqrt(x * x + y * y + z * z);
+        const double x = sph::latticeCoord(0.5 * dp, dp, i), y = sph::latticeCoord(0.5 * dp, dp, j),
+                     z = dim == 3 ? sph::latticeCoord(0.5 * dp, dp, k) : 0.0;
+        const double dx = x - c[0], dy = y - c[1], dz = dim == 3 ? z - c[2] : 0.0;
+        const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
         int code = -1;
         const double gap = shared ? 0.0 : 0.5 * dp;
-        if (d >= a + gap && d < R - gap) code = sph::kFluid;
+        if ((shared ? !sph::insideRadius(dx, dy, dz, cut) : d >= a + gap) && d < R - gap) code = sph::kFluid;
         if (d >= R && d < R + 3 * dp) code = sph::kBoundFixed;
         if (code < 0) continue;
         st.pos.insert(st.pos.end(), {x, y, z});
@@ -108,9 +122,8 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
         st.rho.push_back(rho0);
         st.code.push_back(code);
       }
-  const std::array<double, 3> c{0, 0, 0};
   if (shell == "layered")
-    addLayeredShell(st, a, dp, dim, 3, rho0);
+    addLayeredShell(st, c, a, dp, dim, 3, rho0);
   else if (shared)
     sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0, sph::cellCentredLattice(dp));
   else
@@ -134,10 +147,11 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   r.excluded = sums.excluded_density + sums.excluded_domain;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::printf(
-      "rotating %s, a = %d dp, R = %.2f a, %s, wall_velocity = %s, %s shell: %lld particles, %lld steps, %.0f s: "
-      "torque / analytic %.4f, off-axis %.2e\n",
+      "rotating %s, a = %d dp, R = %.2f a, %s, wall_velocity = %s, %s shell, centre at (%.2f, %.2f, %.2f) dp from a "
+      "cell corner: %lld particles, %lld steps, %.0f s: torque / analytic %.4f, off-axis %.2e\n",
       dim == 3 ? "sphere" : "cylinder", n_radius, r_over_a, viscosity.c_str(), wall_velocity.c_str(), shell.c_str(),
-      r.particles, r.steps, r.wall_s, r.torque_ratio, r.off_axis);
+      offset_dp[0], offset_dp[1], dim == 3 ? offset_dp[2] : 0.0, r.particles, r.steps, r.wall_s, r.torque_ratio,
+      r.off_axis);
   return r;
 }
 
@@ -147,38 +161,63 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
 // B / r with A = -Omega a^2 / (R^2 - a^2), B = Omega a^2 R^2 / (R^2 - a^2), the wall stress is
 // mu (A - B / a^2) against the true -2 mu B / a^2: Lo & Shao's torque is (B - A a^2) / (2 B) =
 // 5/9 of the true one at R = 3 a, so the central form's torque must be 9/5 = 1.8 times Lo &
-// Shao's. With shell, fluid and wall on one lattice (docs/validation.md, "One lattice"), the
-// central torque is 1.009, 1.028, 0.992 of the analytic one at a = 4, 8, 16 dp, Lo & Shao's
-// 0.563 at 8 dp (5/9 + 1.3%). Asserted at a = 8 dp (~50 s): each within 5% of its own limit,
-// the resolution's spread (+-3%) with a margin. (Shell and fluid on two lattices, the set-up
-// before 2026-12-05, gave 0.83 and 0.46: the gap between them, not the viscous term.)
+// Shao's. With shell, fluid and wall on one lattice (docs/validation.md, "One lattice") and the
+// centre at the generic offset, the central torque is 1.006 of the analytic one at a = 8 dp, Lo
+// & Shao's 0.552 (5/9 - 0.6%). Asserted at a = 8 dp (~25 s): each within 5% of its own limit,
+// the spread over resolutions and centre offsets (+-3%) with a margin. (Shell and fluid on two
+// lattices, the set-up before 2026-12-05, gave 0.83 and 0.46: the gap between them, not the
+// viscous term.) Off the axis: the lattice cut of a circle off a cell corner is not symmetric,
+// which leaves a force and an in-plane torque of 2.4% (central) and 3.9% (Lo & Shao) of T_z /
+// a, T_z; bound at 5%, as the symmetric set-up's exact zero is asserted below.
 TEST(SphRotatingSphere, CentralViscosityGivesTheTurningCylinderItsTorque) {
   const SpinResult central = spinSphere(2, 8, 3.0, "no_slip", "laminar_central");
   const SpinResult lo_shao = spinSphere(2, 8, 3.0, "no_slip", "laminar");
   EXPECT_EQ(central.excluded + lo_shao.excluded, 0);
-  EXPECT_LT(central.off_axis, 1e-6);
+  EXPECT_LT(central.off_axis, 0.05);
+  EXPECT_LT(lo_shao.off_axis, 0.05);
   EXPECT_NEAR(central.torque_ratio, 1.0, 0.05);
   EXPECT_NEAR(lo_shao.torque_ratio, 5.0 / 9.0, 0.05 * 5.0 / 9.0);
 }
 
-// The sphere in 3D, a = 4 dp (~60 s): Lamb's torque within 5%. Measured on one lattice: 1.160,
-// 1.017, 0.993 at a = 3, 4, 6 dp (3 dp is too coarse for a 3D lattice cut: 7 208 particles);
-// on two lattices 0.735, 0.707, 0.894.
+// The sphere in 3D, a = 4 dp (~50 s): Lamb's torque within 5%. Measured on one lattice with the
+// centre at the generic offset: 0.992 at 4 dp (the resolution series in docs/validation.md,
+// "One lattice"); with the centre at a cell corner 1.160, 1.017, 0.993 at a = 3, 4, 6 dp, the
+// corner's cut being larger than the sphere (1.063 a and 1.015 a, volume-matched, at 3 and 4
+// dp); on two lattices 0.735, 0.707, 0.894. Off the axis: 1.2% (the cut's asymmetry), bound 5%.
 TEST(SphRotatingSphere, TurningSphereGetsLambsTorque) {
   const SpinResult r = spinSphere(3, 4, 3.0, "no_slip", "laminar_central");
   EXPECT_EQ(r.excluded, 0);
-  EXPECT_LT(r.off_axis, 1e-6);
+  EXPECT_LT(r.off_axis, 0.05);
   EXPECT_NEAR(r.torque_ratio, 1.0, 0.05);
 }
 
-// Diagnostic: MILLSIM_SPIN="a_over_dp[:dim[:R_over_a[:wall_velocity[:viscosity[:shell]]]]] ..."
-// (default "3 4 6": 3D, R = 3 a, no-slip walls, laminar_central, the shared lattice; shell
-// "lattice" or "layered", as spinSphere).
+// With the centre at a cell corner the set-up is symmetric under x -> -x and y -> -y (and the
+// wall's and the body's sums with it), so the fluid can exert no force and no in-plane torque on
+// the turning cylinder: zero up to rounding (a = 4 dp, 2D, ~3 s). A pair term that is not
+// antisymmetric, or a body sum that drops particles, breaks it.
+TEST(SphRotatingSphere, SymmetricSetUpHasNoOffAxisLoad) {
+  const SpinResult r = spinSphere(2, 4, 3.0, "no_slip", "laminar_central", "shared", {0.0, 0.0, 0.0});
+  EXPECT_EQ(r.excluded, 0);
+  EXPECT_LT(r.off_axis, 1e-6);
+  EXPECT_NEAR(r.torque_ratio, 1.0, 0.05);  // 1.009 measured (docs/validation.md, "One lattice")
+}
+
+// Diagnostic: MILLSIM_SPIN="a_over_dp[:dim[:R_over_a[:wall_velocity[:viscosity[:shell[:ox,oy,oz]]]]]] ..."
+// (default "3 4 6": 3D, R = 3 a, no-slip walls, laminar_central, the shared lattice, the
+// generic offset; shell "lattice" or "layered", as spinSphere; the centre's offset from a cell
+// corner in dp, e.g. "0,0,0" for the corner).
 TEST(SphRotatingSphere, DISABLED_Resolution) {
-  for (const auto& f : testing::envRuns("MILLSIM_SPIN", "3 4 6", 6)) {
+  for (const auto& f : testing::envRuns("MILLSIM_SPIN", "3 4 6", 7)) {
+    std::array<double, 3> offset = kGenericOffset;
+    if (!f[6].empty()) {
+      std::istringstream in(f[6]);
+      char comma = 0;
+      in >> offset[0] >> comma >> offset[1] >> comma >> offset[2];
+      if (!in) ADD_FAILURE() << "offset \"" << f[6] << "\": ox,oy,oz in dp";
+    }
     const SpinResult r = spinSphere(f[1].empty() ? 3 : std::stoi(f[1]), std::stoi(f[0]),
                                     f[2].empty() ? 3.0 : std::stod(f[2]), f[3].empty() ? "no_slip" : f[3],
-                                    f[4].empty() ? "laminar_central" : f[4], f[5].empty() ? "shared" : f[5]);
+                                    f[4].empty() ? "laminar_central" : f[4], f[5].empty() ? "shared" : f[5], offset);
     EXPECT_EQ(r.excluded, 0);
   }
 }

@@ -50,8 +50,7 @@ struct TowSphereResult {
 // lattice: "point" the shell's lattice has a point at the centre, offset by dp/2 from the
 // fluid's, and the fluid is carved to a + dp/2 (the set-up before 2026-12-05); "shared": the
 // shell cut from the fluid's lattice (the centre at a cell corner of it), the fluid carved to a;
-// "shifted": the centre moved by (dp/2, dp/2, dp/2), on a fluid lattice point, the shell again
-// from the fluid's lattice. A suffix "+tube" also fills the fluid to the tube's wall (r < R0:
+// "shifted" and "generic": the same with the centre moved off the corner (below). A suffix "+tube" also fills the fluid to the tube's wall (r < R0:
 // one lattice there too) instead of R0 - dp/2.
 TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool shifting, double h_over_dp,
                           const std::string& viscosity, const std::string& lattice) {
@@ -71,11 +70,12 @@ TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool s
   // Fluid on the drum lattice (centres at (i + 1/2) dp), walls from the same lattice, as the
   // settling sphere's tube.
   sph::SphHostState st;
-  const int n = static_cast<int>(std::ceil(r0 / dp)), nz = static_cast<int>(std::floor(length / dp + 1e-9));
+  const int n = static_cast<int>(std::ceil(r0 / dp)), nz = sph::drumAxialLayers(length, dp);
   for (int k = 0; k < nz; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
-        const double x = (i + 0.5) * dp, y = (j + 0.5) * dp, z = (k + 0.5) * dp;
+        const double x = sph::latticeCoord(0.5 * dp, dp, i), y = sph::latticeCoord(0.5 * dp, dp, j),
+                     z = sph::latticeCoord(0.5 * dp, dp, k);
         if (std::hypot(x, y) > (tube_shared ? r0 - 1e-9 * dp : r0 - 0.5 * dp)) continue;
         st.pos.insert(st.pos.end(), {x, y, z});
         st.vel.insert(st.vel.end(), {0.0, 0.0, 0.0});
@@ -86,16 +86,19 @@ TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool s
   for (int& code : st.code)
     if (code == sph::kBoundMoving) code = sph::kBoundFixed;
   std::array<double, 3> c{0, 0, std::round(0.5 * length / dp) * dp};
-  if (shell == "shared" || shell == "shifted") {
-    if (shell == "shifted")
-      for (double& x : c) x += 0.5 * dp;
-    sph::carveFluid(st, c, a);
+  if (shell == "shared" || shell == "shifted" || shell == "generic") {
+    // "shared": the centre at a cell corner (136 points in the cut of a = 3 dp, an effective,
+    // volume-matched radius of 1.063 a); "shifted": dp/2 along the axis, a cell's face centre;
+    // "generic": the offset (0.31, 0.17, 0.43) dp (112 points, 0.997 a), 0.35 dp off the axis.
+    if (shell == "shifted") c[2] += 0.5 * dp;
+    if (shell == "generic") c = {0.31 * dp, 0.17 * dp, c[2] + 0.43 * dp};
+    sph::carveFluidForShell(st, c, a, dp, 3, sph::cellCentredLattice(dp));
     sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0, sph::cellCentredLattice(dp));
   } else if (shell == "point") {
     sph::carveFluid(st, c, a + 0.5 * dp);
     sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0);
   } else {
-    ADD_FAILURE() << "lattice \"" << lattice << "\": point, shared or shifted (+tube)";
+    ADD_FAILURE() << "lattice \"" << lattice << "\": point, shared, shifted or generic (+tube)";
   }
 
   auto e = sph::makeSphEngineOmp(s);
