@@ -120,11 +120,11 @@ void addDrumWalls(SphHostState& s, const DrumGeometry& d, double dp, int layers,
   const double outer = d.radius + layers * dp;
   const int n = static_cast<int>(std::ceil(outer / dp));
   const int nz = drumAxialLayers(d.length, dp);
+  const std::array<double, 3> o = cellCentredLattice(dp);  // the fluid's (the wet mill's fill)
   for (int k = -layers; k < nz + layers; ++k)
     for (int j = -n; j < n; ++j)
       for (int i = -n; i < n; ++i) {
-        const double x = latticeCoord(0.5 * dp, dp, i), y = latticeCoord(0.5 * dp, dp, j),
-                     z = latticeCoord(0.5 * dp, dp, k);
+        const double x = latticeCoord(o[0], dp, i), y = latticeCoord(o[1], dp, j), z = latticeCoord(o[2], dp, k);
         const double r = std::hypot(x, y);
         if (r >= outer) continue;
         const bool plate = k < 0 || k >= nz;
