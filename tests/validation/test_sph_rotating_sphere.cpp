@@ -77,7 +77,8 @@ void addLayeredShell(sph::SphHostState& st, const std::array<double, 3>& c, doub
 // The centre's offset from a lattice cell corner, in dp: a generic one. At a corner (offset 0,
 // the symmetric set-up) the lattice cut of a = 3 dp holds 136 points where the sphere's volume
 // is 113.1 dp^3, an effective radius (volume-matched) of 1.063 a, at 4 dp 280 points, 1.015 a;
-// at this offset 112 and 267 points, 0.997 a and 0.999 a (docs/validation.md, "One lattice").
+// at this offset 112 and 267 points, 0.997 a and 0.999 a (docs/validation.md, "Where the centre
+// falls"). The shell and the fluid are cut where the count matches the volume (latticeCutRadius).
 constexpr std::array<double, 3> kGenericOffset{0.31, 0.17, 0.43};
 
 SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string& wall_velocity,
@@ -162,12 +163,12 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
 // mu (A - B / a^2) against the true -2 mu B / a^2: Lo & Shao's torque is (B - A a^2) / (2 B) =
 // 5/9 of the true one at R = 3 a, so the central form's torque must be 9/5 = 1.8 times Lo &
 // Shao's. With shell, fluid and wall on one lattice (docs/validation.md, "One lattice") and the
-// centre at the generic offset, the central torque is 1.006 of the analytic one at a = 8 dp, Lo
-// & Shao's 0.552 (5/9 - 0.6%). Asserted at a = 8 dp (~25 s): each within 5% of its own limit,
+// centre at the generic offset, the central torque is 0.994 of the analytic one at a = 8 dp, Lo
+// & Shao's 0.546 (5/9 - 1.7%). Asserted at a = 8 dp (~25 s): each within 5% of its own limit,
 // the spread over resolutions and centre offsets (+-3%) with a margin. (Shell and fluid on two
 // lattices, the set-up before 2026-12-05, gave 0.83 and 0.46: the gap between them, not the
 // viscous term.) Off the axis: the lattice cut of a circle off a cell corner is not symmetric,
-// which leaves a force and an in-plane torque of 2.4% (central) and 3.9% (Lo & Shao) of T_z /
+// which leaves a force and an in-plane torque of 2.3% (central) and 4.0% (Lo & Shao) of T_z /
 // a, T_z; bound at 5%, as the symmetric set-up's exact zero is asserted below.
 TEST(SphRotatingSphere, CentralViscosityGivesTheTurningCylinderItsTorque) {
   const SpinResult central = spinSphere(2, 8, 3.0, "no_slip", "laminar_central");
@@ -180,10 +181,10 @@ TEST(SphRotatingSphere, CentralViscosityGivesTheTurningCylinderItsTorque) {
 }
 
 // The sphere in 3D, a = 4 dp (~50 s): Lamb's torque within 5%. Measured on one lattice with the
-// centre at the generic offset: 0.992 at 4 dp (the resolution series in docs/validation.md,
-// "One lattice"); with the centre at a cell corner 1.160, 1.017, 0.993 at a = 3, 4, 6 dp, the
+// centre at the generic offset: 1.001 at 4 dp (0.975-1.001 over three generic centres, 0.96-0.99
+// at 3 dp: docs/validation.md, "Where the centre falls"); with the centre at a cell corner 1.160, 1.017, 0.993 at a = 3, 4, 6 dp, the
 // corner's cut being larger than the sphere (1.063 a and 1.015 a, volume-matched, at 3 and 4
-// dp); on two lattices 0.735, 0.707, 0.894. Off the axis: 1.2% (the cut's asymmetry), bound 5%.
+// dp); on two lattices 0.735, 0.707, 0.894. Off the axis: 1.1% (the cut's asymmetry), bound 5%.
 TEST(SphRotatingSphere, TurningSphereGetsLambsTorque) {
   const SpinResult r = spinSphere(3, 4, 3.0, "no_slip", "laminar_central");
   EXPECT_EQ(r.excluded, 0);
