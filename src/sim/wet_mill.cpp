@@ -72,10 +72,13 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
     return std::make_pair(std::max(first, static_cast<int>(std::floor(lo / dp - 0.5))),
                           std::min(last, static_cast<int>(std::ceil(hi / dp - 0.5))));
   };
+  // Each ball's shell is cut from this lattice too (below): the slurry starts where it ends.
+  std::vector<sph::LatticeCut> cuts;
+  cuts.reserve(m_balls);
   for (std::size_t b = 0; b < m_balls; ++b) {
     const double cx = balls.pos[3 * b], cy = balls.pos[3 * b + 1], cz = balls.pos[3 * b + 2];
-    // The ball's shell is cut from this lattice too (below): the slurry starts where it ends.
-    const double clear = sph::latticeCutRadius({cx, cy, cz}, balls.radius[b], dp, 3, origin);
+    cuts.push_back(sph::latticeCut({cx, cy, cz}, balls.radius[b], dp, 3, origin));
+    const double clear = cuts.back().radius;
     const auto [i0, i1] = span(cx - clear, cx + clear, -n, n - 1);
     const auto [j0, j1] = span(cy - clear, cy + clear, -n, n - 1);
     const auto [k0, k1] = span(cz - clear, cz + clear, 0, nz - 1);
@@ -120,7 +123,7 @@ WetMill::WetMill(const scene::Scene& sc, const RunOptions& options, const dem::D
     const std::array<double, 3> c{balls.pos[3 * b], balls.pos[3 * b + 1], balls.pos[3 * b + 2]};
     // The whole ball when it is at most `layers` deep (its cut can lie up to dp/2 beyond r).
     const int ball_layers = std::min(layers, static_cast<int>(std::ceil(balls.radius[b] / dp)) + 1);
-    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0, origin);
+    sph::addSphereShell(st, c, balls.radius[b], dp, 3, ball_layers, static_cast<int>(b), p.rho0, cuts[b]);
   }
   if (p.initial_density == "hydrostatic") sph::hydrostaticDensity(st, surface_y, g, p.rho0, m_setup.c0, p.gamma);
   m_particles = st.size();

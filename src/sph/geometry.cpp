@@ -169,7 +169,7 @@ double latticeCutRadius(const std::array<double, 3>& c, double r, double dp, int
 }
 
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
-                    double rho0, const std::optional<std::array<double, 3>>& lattice_origin) {
+                    double rho0, const std::optional<LatticeCut>& lattice_cut) {
   // Body data for the particles already there (walls, fluid): none.
   s.body.resize(s.size(), -1);
   s.offset.resize(3 * s.size(), 0.0);
@@ -181,12 +181,12 @@ void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, d
   // Own lattice: a point on the surface (r a whole number of steps, e.g. 10 dp: (6, 8) dp) is
   // outside, whichever way rounding takes its distance. The fluid's lattice: cut between points.
   double cut = r - 1e-9 * dp;
-  if (lattice_origin) {
+  if (lattice_cut) {
     for (int q = 0; q < 3; ++q) {
-      o[q] = (*lattice_origin)[q];
+      o[q] = lattice_cut->origin[q];
       m0[q] = std::lround((c[q] - o[q]) / dp);
     }
-    cut = latticeCutRadius(c, r, dp, dim, *lattice_origin);
+    cut = lattice_cut->radius;
   }
   const int n = static_cast<int>(std::ceil(cut / dp)) + 1;
   const double inner = cut - layers * dp;
@@ -224,11 +224,6 @@ void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearanc
     }
   }
   s = std::move(out);
-}
-
-void carveFluidForShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim,
-                        const std::array<double, 3>& lattice_origin) {
-  carveFluid(s, c, latticeCutRadius(c, r, dp, dim, lattice_origin));
 }
 
 void hydrostaticDensity(SphHostState& s, double surface_y, double g, double rho0, double c0, double gamma,

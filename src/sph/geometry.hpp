@@ -73,21 +73,33 @@ bool insideLifter(const DrumGeometry& drum, double x, double y, double clearance
 double latticeCutRadius(const std::array<double, 3>& c, double r, double dp, int dim,
                         const std::array<double, 3>& lattice_origin);
 
+// A body's cut from the fluid's lattice: the lattice's origin and latticeCutRadius. Computed
+// once per body (a sort of the ~(2 r / dp + 5)^3 distances around it) and handed to both the
+// fluid's carve and the shell, which must agree on it.
+struct LatticeCut {
+  std::array<double, 3> origin;
+  double radius;
+};
+inline LatticeCut latticeCut(const std::array<double, 3>& c, double r, double dp, int dim,
+                             const std::array<double, 3>& lattice_origin) {
+  return {lattice_origin, latticeCutRadius(c, r, dp, dim, lattice_origin)};
+}
+
 // Appends the shell of a spherical body (a disc in 2D) of radius r centred at c: the points of
 // a lattice of spacing dp with r_cut - layers dp <= |x - c| < r_cut, as body particles (code
 // kBoundBody) of body `body`, with their offsets from c and ghosts mirrored radially across r.
 // The lattice:
 // - by default one with a point at c, r_cut = r, the shell symmetric about its centre; the
 //   fluid around it is carved to r + dp/2 (carveFluid) and lies on another lattice;
-// - given `lattice_origin`, the fluid's own lattice, lattice_origin + (i, j, k) dp, r_cut =
-//   latticeCutRadius, with the fluid carved to r_cut (carveFluidForShell). Then the first fluid
+// - given `cut` (latticeCut), the fluid's own lattice, cut.origin + (i, j, k) dp, r_cut =
+//   cut.radius, with the fluid carved to r_cut (carveFluidForShell). Then the first fluid
 //   particle stands dp from the outermost shell one in every direction, as fluid particles stand
 //   from each other. Why: two lattices leave gaps of 1 to 2 dp, by direction, which move the
 //   body's effective surface inwards by a fraction of dp: a sphere of 3 dp radius turning in a
 //   shell then feels 0.73 of the analytic torque, a towed one 0.80 of Stokes' drag; on one
 //   lattice ~1 (docs/validation.md, "One lattice").
 void addSphereShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim, int layers, int body,
-                    double rho0, const std::optional<std::array<double, 3>>& lattice_origin = std::nullopt);
+                    double rho0, const std::optional<LatticeCut>& cut = std::nullopt);
 
 // The origin of a fluid lattice whose points are lo + (i + 1/2) dp: the lattice_origin to cut a
 // body's shell from it. lo = 0 for addDrumWalls and the drum's fluid; the box's lo corner for
@@ -100,9 +112,10 @@ inline std::array<double, 3> cellCentredLattice(double dp, const std::array<doub
 void carveFluid(SphHostState& s, const std::array<double, 3>& c, double clearance);
 
 // Removes the fluid particles inside the body that addSphereShell cuts from the fluid's lattice
-// (given its lattice_origin): those within latticeCutRadius of c.
-void carveFluidForShell(SphHostState& s, const std::array<double, 3>& c, double r, double dp, int dim,
-                        const std::array<double, 3>& lattice_origin);
+// (given the same `cut`): those within cut.radius of c.
+inline void carveFluidForShell(SphHostState& s, const std::array<double, 3>& c, const LatticeCut& cut) {
+  carveFluid(s, c, cut.radius);
+}
 
 // Sets every particle's density to the hydrostatic value of a free surface at height
 // `surface_y` (up is +y, or the axis `up_axis`): rho = rho0 (1 + rho0 g (surface_y - y) / B)^(1/gamma),

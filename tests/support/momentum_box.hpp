@@ -82,9 +82,9 @@ inline MomentumBox makeMomentumBox(const std::string& integrator, bool dcdem = f
   for (std::size_t b = 0; b < balls.size(); ++b) {
     const std::array<double, 3> c{balls[b].x, balls[b].y, balls[b].z};
     // The shell cut from the fluid's lattice, the fluid carved where it ends (as the wet mill).
-    const std::array<double, 3> origin = sph::cellCentredLattice(dp, box.lo);
-    sph::carveFluidForShell(st, c, balls[b].r, dp, 3, origin);
-    sph::addSphereShell(st, c, balls[b].r, dp, 3, 3, static_cast<int>(b), rho0, origin);
+    const sph::LatticeCut cut = sph::latticeCut(c, balls[b].r, dp, 3, sph::cellCentredLattice(dp, box.lo));
+    sph::carveFluidForShell(st, c, cut);
+    sph::addSphereShell(st, c, balls[b].r, dp, 3, 3, static_cast<int>(b), rho0, cut);
   }
   // The walls become body particles of body 2, held at the box's centre.
   const std::array<double, 3> centre{0.5 * L, 0.5 * L, z0 + 0.5 * L};

@@ -64,8 +64,9 @@ TEST(SphGeometry, ShellAndCarvedFluidSplitTheLattice) {
     const std::size_t lattice_points = s.size();
     const std::array<double, 3> c{sph::latticeCoord(origin[0], dp, 5), sph::latticeCoord(origin[1], dp, 5),
                                   sph::latticeCoord(origin[2], dp, 4)};
-    sph::carveFluidForShell(s, c, r, dp, 3, origin);
-    sph::addSphereShell(s, c, r, dp, 3, 10, 0, rho0, origin);  // 10 layers: the whole ball
+    const sph::LatticeCut cut = sph::latticeCut(c, r, dp, 3, origin);
+    sph::carveFluidForShell(s, c, cut);
+    sph::addSphereShell(s, c, r, dp, 3, 10, 0, rho0, cut);  // 10 layers: the whole ball
     const std::set<Point> fluid = pointsWithCode(s, sph::kFluid), shell = pointsWithCode(s, sph::kBoundBody);
     EXPECT_EQ(fluid.size() + shell.size(), lattice_points) << "r = " << r / dp << " dp";
     for (const Point& p : shell) EXPECT_EQ(fluid.count(p), 0u) << "a shell point on a fluid one, r = " << r / dp;
@@ -89,7 +90,7 @@ TEST(SphGeometry, LatticeCutHoldsTheBodysVolume) {
     for (const double a : {2.5, 3.0, 3.5, 4.0}) {
       const std::array<double, 3> c{f[0] * dp, f[1] * dp, 0.2 + f[2] * dp};
       sph::SphHostState s;
-      sph::addSphereShell(s, c, a * dp, dp, 3, 10, 0, 1000.0, origin);
+      sph::addSphereShell(s, c, a * dp, dp, 3, 10, 0, 1000.0, sph::latticeCut(c, a * dp, dp, 3, origin));
       const double volume = 4.0 / 3.0 * pi * a * a * a;
       EXPECT_NEAR(static_cast<double>(s.size()) / volume, 1.0, 0.02) << "a = " << a << " dp, centre " << f[0] << ", "
                                                                       << f[1] << ", " << f[2];

@@ -32,6 +32,7 @@
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
 #include "support/env_runs.hpp"
+#include "support/lattice_offset.hpp"
 #include "support/tow_body.hpp"
 
 namespace millsim {
@@ -74,16 +75,11 @@ void addLayeredShell(sph::SphHostState& st, const std::array<double, 3>& c, doub
   }
 }
 
-// The centre's offset from a lattice cell corner, in dp: a generic one. At a corner (offset 0,
-// the symmetric set-up) the lattice cut of a = 3 dp holds 136 points where the sphere's volume
-// is 113.1 dp^3, an effective radius (volume-matched) of 1.063 a, at 4 dp 280 points, 1.015 a;
-// at this offset 112 and 267 points, 0.997 a and 0.999 a (docs/validation.md, "Where the centre
-// falls"). The shell and the fluid are cut where the count matches the volume (latticeCutRadius).
-constexpr std::array<double, 3> kGenericOffset{0.31, 0.17, 0.43};
-
+// The centre sits offset_dp (in dp) from a cell corner of the fluid's lattice: by default a
+// generic spot (support/lattice_offset.hpp), the shell and the fluid cut there by sph::latticeCut.
 SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string& wall_velocity,
                       const std::string& viscosity, const std::string& shell = "shared",
-                      const std::array<double, 3>& offset_dp = kGenericOffset) {
+                      const std::array<double, 3>& offset_dp = testing::kGenericLatticeOffset) {
   const double a = 0.003, re = 0.05, nu = 1e-3, rho0 = 1000, mu = rho0 * nu;
   const double dp = a / n_radius, R = r_over_a * a;
   const double omega = re * nu / (a * a);
@@ -104,7 +100,7 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   sph::SphHostState st;
   const bool shared = shell == "shared";
   const int n = static_cast<int>(std::ceil((R + 4 * dp) / dp));  // 3 wall layers, the offset
-  const double cut = sph::latticeCutRadius(c, a, dp, dim, sph::cellCentredLattice(dp));  // the shell's
+  const sph::LatticeCut cut = sph::latticeCut(c, a, dp, dim, sph::cellCentredLattice(dp));  // the shell's
   const int k0 = dim == 3 ? -n : 0, k1 = dim == 3 ? n : 1;
   for (int k = k0; k < k1; ++k)
     for (int j = -n; j < n; ++j)
@@ -115,7 +111,7 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
         const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
         int code = -1;
         const double gap = shared ? 0.0 : 0.5 * dp;
-        if ((shared ? !sph::insideRadius(dx, dy, dz, cut) : d >= a + gap) && d < R - gap) code = sph::kFluid;
+        if ((shared ? !sph::insideRadius(dx, dy, dz, cut.radius) : d >= a + gap) && d < R - gap) code = sph::kFluid;
         if (d >= R && d < R + 3 * dp) code = sph::kBoundFixed;
         if (code < 0) continue;
         st.pos.insert(st.pos.end(), {x, y, z});
@@ -126,7 +122,7 @@ SpinResult spinSphere(int dim, int n_radius, double r_over_a, const std::string&
   if (shell == "layered")
     addLayeredShell(st, c, a, dp, dim, 3, rho0);
   else if (shared)
-    sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0, sph::cellCentredLattice(dp));
+    sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0, cut);
   else
     sph::addSphereShell(st, c, a, dp, dim, 3, 0, rho0);
 
@@ -209,7 +205,7 @@ TEST(SphRotatingSphere, SymmetricSetUpHasNoOffAxisLoad) {
 // corner in dp, e.g. "0,0,0" for the corner).
 TEST(SphRotatingSphere, DISABLED_Resolution) {
   for (const auto& f : testing::envRuns("MILLSIM_SPIN", "3 4 6", 7)) {
-    std::array<double, 3> offset = kGenericOffset;
+    std::array<double, 3> offset = testing::kGenericLatticeOffset;
     if (!f[6].empty()) {
       std::istringstream in(f[6]);
       char comma = 0;

@@ -30,6 +30,7 @@
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
 #include "support/env_runs.hpp"
+#include "support/lattice_offset.hpp"
 #include "support/tow_body.hpp"
 
 namespace millsim {
@@ -50,8 +51,9 @@ struct TowSphereResult {
 // lattice: "point" the shell's lattice has a point at the centre, offset by dp/2 from the
 // fluid's, and the fluid is carved to a + dp/2 (the set-up before 2026-12-05); "shared": the
 // shell cut from the fluid's lattice (the centre at a cell corner of it), the fluid carved to a;
-// "shifted" and "generic": the same with the centre moved off the corner (below). A suffix "+tube" also fills the fluid to the tube's wall (r < R0:
-// one lattice there too) instead of R0 - dp/2.
+// "shifted" and "generic": the same with the centre moved off the corner (below). A suffix
+// "+tube" also fills the fluid to the tube's wall (r < R0: one lattice there too) instead of
+// R0 - dp/2.
 TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool shifting, double h_over_dp,
                           const std::string& viscosity, const std::string& lattice) {
   const double a = 0.003, lambda = 0.25, re = 0.05, nu = 1e-3, rho0 = 1000;
@@ -89,11 +91,15 @@ TowSphereResult towSphere(int n_radius, const std::string& wall_velocity, bool s
   if (shell == "shared" || shell == "shifted" || shell == "generic") {
     // "shared": the centre at a cell corner (136 points in the cut of a = 3 dp, an effective,
     // volume-matched radius of 1.063 a); "shifted": dp/2 along the axis, a cell's face centre;
-    // "generic": the offset (0.31, 0.17, 0.43) dp (112 points, 0.997 a), 0.35 dp off the axis.
+    // "generic": testing::kGenericLatticeOffset (112 points, 0.997 a), 0.35 dp off the axis.
     if (shell == "shifted") c[2] += 0.5 * dp;
-    if (shell == "generic") c = {0.31 * dp, 0.17 * dp, c[2] + 0.43 * dp};
-    sph::carveFluidForShell(st, c, a, dp, 3, sph::cellCentredLattice(dp));
-    sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0, sph::cellCentredLattice(dp));
+    if (shell == "generic") {
+      const auto& f = testing::kGenericLatticeOffset;
+      c = {f[0] * dp, f[1] * dp, c[2] + f[2] * dp};
+    }
+    const sph::LatticeCut cut = sph::latticeCut(c, a, dp, 3, sph::cellCentredLattice(dp));
+    sph::carveFluidForShell(st, c, cut);
+    sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0, cut);
   } else if (shell == "point") {
     sph::carveFluid(st, c, a + 0.5 * dp);
     sph::addSphereShell(st, c, a, dp, 3, 3, 0, rho0);
