@@ -197,20 +197,39 @@ std::string progressText(double t, double t_end, double steps_per_s, double eta_
   return line;
 }
 
+void ProgressPace::sample(double wall_s, double t, long long steps) {
+  if (!m_started) {
+    m_started = true;
+    m_wall = wall_s, m_t = t, m_steps = steps;
+    return;
+  }
+  const double dwall = wall_s - m_wall, dt = t - m_t;
+  // An interval in which the run has not moved has no pace yet: it joins the next one.
+  if (dwall <= 0 || dt <= 0 || steps <= m_steps) return;
+  const double pace = dwall / dt, step_s = dwall / static_cast<double>(steps - m_steps);
+  const double w = m_moved ? 1.0 - std::exp(-dwall / m_tau) : 1.0;
+  m_pace += w * (pace - m_pace);
+  m_step_s += w * (step_s - m_step_s);
+  m_moved = true;
+  m_wall = wall_s, m_t = t, m_steps = steps;
+}
+
+double ProgressPace::etaSeconds(double t_end) const { return m_moved ? std::max(0.0, t_end - m_t) * m_pace : 0.0; }
+
 void ProgressLine::update(double t, long long steps) {
   if (!m_enabled) return;
   const auto now = std::chrono::steady_clock::now();
-  if (m_t_start < 0) {
-    m_t_start = t;
-    m_steps_start = steps;
+  const double wall = std::chrono::duration<double>(now - m_start).count();
+  // The first call starts the pace's clock; later ones feed it at the line's own cadence.
+  if (m_first) {
+    m_first = false;
+    m_pace.sample(wall, t, steps);
+    return;
   }
   if (std::chrono::duration<double>(now - m_last).count() < (m_terminal ? 0.5 : 60.0)) return;
   m_last = now;
-  const double wall = std::chrono::duration<double>(now - m_start).count();
-  const double rate = wall > 0 ? (steps - m_steps_start) / wall : 0;
-  const double frac = (t - m_t_start) / std::max(1e-12, m_t_end - m_t_start);
-  const double eta = frac > 0 ? wall * (1 - frac) / frac : 0;
-  const std::string text = progressText(t, m_t_end, rate, eta);
+  m_pace.sample(wall, t, steps);
+  const std::string text = progressText(t, m_t_end, m_pace.stepsPerSecond(), m_pace.etaSeconds(m_t_end));
   if (m_terminal)
     std::fprintf(stderr, "\r%s   ", text.c_str());
   else

@@ -61,6 +61,29 @@ void recordFailedRun(RunSummary& s, const std::string& error, double t, long lon
 // The DEM energy state of the summary (kinetic, potential, dissipated, wall work, elastic).
 void fillDemEnergy(RunSummary& s, double kinetic, double potential, double dissipated, double work_in, double elastic);
 
+// The pace of a run for its ETA: an average over the last minutes, not since the start, because
+// runs change pace by orders of magnitude between phases (the wet mill's 2 s of dry compaction
+// take seconds, its 10 s of coupled rotation hours: a whole-run average read 22 min left when 2 h
+// were). Averaged is the pace, wall seconds per simulated second, not its inverse: a fast burst
+// then weighs little instead of dominating. Exponential weights by wall time, time constant tau.
+class ProgressPace {
+ public:
+  explicit ProgressPace(double tau_s = 120.0) : m_tau(tau_s) {}
+  // A sample at wall time `wall_s` (any origin, increasing) of simulated time t after `steps`.
+  void sample(double wall_s, double t, long long steps);
+  // Wall seconds left to reach t_end at the current pace; 0 until the run has moved.
+  double etaSeconds(double t_end) const;
+  // Steps per wall second: the inverse of the average wall time per step, same weights.
+  double stepsPerSecond() const { return m_step_s > 0 ? 1.0 / m_step_s : 0.0; }
+
+ private:
+  double m_tau;
+  bool m_started = false, m_moved = false;
+  double m_wall = 0, m_t = 0;
+  long long m_steps = 0;
+  double m_pace = 0, m_step_s = 0;
+};
+
 // Progress of a run on stderr. On a terminal one line rewritten in place at most every 0.5 s:
 // "\r t = 3.200 / 12.000 s   27%  41200 steps/s  ETA 21:05"; into a file or pipe (nohup, a batch
 // job's log) a new line every 60 s, so an hours-long run shows it is alive and when it will end.
@@ -75,8 +98,8 @@ class ProgressLine {
   bool m_terminal;
   double m_t_end;
   std::chrono::steady_clock::time_point m_start, m_last;
-  double m_t_start = -1;
-  long long m_steps_start = 0;
+  ProgressPace m_pace;
+  bool m_first = true;
 };
 
 // " t = 3.200 / 12.000 s   27%  41200 steps/s  ETA 21:05" (ETA as m:ss below an hour, h:mm:ss
