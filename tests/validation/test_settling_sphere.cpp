@@ -67,6 +67,7 @@
 #include "sph/geometry.hpp"
 #include "support/dem_fixture.hpp"
 #include "support/env_runs.hpp"
+#include "support/lattice_offset.hpp"
 #include "support/sph_fixture.hpp"
 
 namespace millsim {
@@ -96,11 +97,10 @@ struct SettlingCase {
   // across the tube, (D/2)^2 / nu = 0.45 s here: the 13 d of travel take ~4 of those (at Re = 4
   // and nu = 2e-4 the same took 1.1 s each, and an 18 d column ended before the flow was steady).
   double length_d = 20, start_below_lid_d = 3, stop_above_bottom_d = 4;
-  // The start's offset from the lattice's cell corner on the axis, in dp: a generic centre (at
-  // the corner itself, the cut of R = 3 dp holds 136 points against 113.1 dp^3 and the fluid
-  // sees a sphere of 1.06 R: docs/validation.md, "Where the centre falls"). 0.35 dp off the axis
-  // of a tube 15 dp in radius.
-  std::array<double, 3> offset_dp{0.31, 0.17, 0.43};
+  // The start's offset from the lattice's cell corner on the axis, in dp: a generic centre
+  // (support/lattice_offset.hpp; at the corner itself the fluid would see a sphere of 1.06 R).
+  // 0.35 dp off the axis of a tube 15 dp in radius.
+  std::array<double, 3> offset_dp = testing::kGenericLatticeOffset;
   // The fluid carries no gravity; the ball is pulled by its weight less its buoyancy,
   // (rho_s - rho0) V g. For an incompressible fluid that is the same flow (the hydrostatic
   // pressure only adds the buoyancy), and without a hydrostatic column c0 is set by the pressure
@@ -114,10 +114,16 @@ struct SettlingCase {
   std::string wall_velocity = "no_slip";
   std::string viscosity = "laminar";
   std::string csv;  // time series written here when set
+  // > 0: the sphere is towed down the same path at this constant speed (m/s) instead of falling
+  // free, and the result is the fluid's force on it over its weight less buoyancy (1 where the
+  // speed is the free sphere's terminal one). It splits a terminal-velocity error into the
+  // drag's own (SPH) and the free body's (coupling, DEM step).
+  double tow_velocity = 0;
 };
 
 struct SettlingResult {
   double measured = 0, expected = 0, u_inf = 0, re_inf = 0, wall = 0, tau = 0, steady = 0, wall_s = 0;
+  double force_ratio = 0;  // towed: mean fluid force / (weight less buoyancy) over the window
   long long steps = 0, particles = 0;
 };
 
@@ -163,8 +169,9 @@ SettlingResult runSettling(const SettlingCase& c) {
     if (code == sph::kBoundMoving) code = sph::kBoundFixed;
   const std::array<double, 3> start{c.offset_dp[0] * dp, c.offset_dp[1] * dp,
                                     std::round((length - c.start_below_lid_d * c.d) / dp) * dp + c.offset_dp[2] * dp};
-  sph::carveFluidForShell(st, start, r, dp, 3, sph::cellCentredLattice(dp));
-  sph::addSphereShell(st, start, r, dp, 3, 3, 0, c.rho0, sph::cellCentredLattice(dp));
+  const sph::LatticeCut cut = sph::latticeCut(start, r, dp, 3, sph::cellCentredLattice(dp));
+  sph::carveFluidForShell(st, start, cut);
+  sph::addSphereShell(st, start, r, dp, 3, 3, 0, c.rho0, cut);
 
   testing::DemScene dsc;
   dsc.density = c.s * c.rho0;
@@ -173,7 +180,15 @@ SettlingResult runSettling(const SettlingCase& c) {
   auto sph = sph::makeSphEngineOmp(s);
   sph->setState(st);
   coupling::SphDemCoupling coupling(1);
-  coupling.initialize(*sph, testing::state(*dem), {});
+  const bool towed = c.tow_velocity > 0;
+  std::array<double, 3> centre = start;  // towed
+  const std::array<double, 3> tow{0.0, 0.0, -c.tow_velocity};
+  if (towed) {
+    sph->setBodyKinematics({sph::SphBody{centre, tow, {}}});
+    sph->initialize({});
+  } else {
+    coupling.initialize(*sph, testing::state(*dem), {});
+  }
 
   const double z_stop = c.stop_above_bottom_d * c.d;
   const double s_local = c.s;
@@ -194,8 +209,8 @@ SettlingResult runSettling(const SettlingCase& c) {
     series.open(c.csv);
     series << "t_s,z_m,v_down_m_s,off_axis_m,fluid_force_over_weight\n";
   }
-  // Time limit: the travel at half the expected speed.
-  const double t_max = 2 * (start[2] - z_stop) / res.expected;
+  // Time limit: the travel at half the expected (or towing) speed.
+  const double t_max = 2 * (start[2] - z_stop) / (towed ? c.tow_velocity : res.expected);
   const double weight = testing::ballMass(r, dsc.density) * (1 - 1 / c.s) * c.g;  // less buoyancy
   double t = 0;
   auto half = [](double) { return sph::SphMotion{}; };
@@ -204,40 +219,62 @@ SettlingResult runSettling(const SettlingCase& c) {
     return sph::SphMotion{};
   };
   while (true) {
-    t += coupling.advance(*sph, *dem, half, dem_steps);
+    if (towed) {
+      const double dt = sph->nextDt();
+      centre[2] += tow[2] * dt;
+      sph->setBodyKinematics({sph::SphBody{centre, tow, {}}});
+      sph->step(dt, {}, {});
+      t += dt;
+      ts.push_back(t);
+      zs.push_back(centre[2]);
+      vs.push_back(c.tow_velocity);
+      rs.push_back(std::hypot(centre[0], centre[1]));
+      fs.push_back(sph->bodyLoads()[0].force[2] / weight);
+    } else {
+      t += coupling.advance(*sph, *dem, half, dem_steps);
+      const dem::DemHostState ball = testing::state(*dem);
+      ts.push_back(t);
+      zs.push_back(ball.pos[2]);
+      vs.push_back(-ball.vel[2]);
+      rs.push_back(std::hypot(ball.pos[0], ball.pos[1]));
+      fs.push_back(sph->bodyImpulses()[0].force[2] / (weight * (ts.size() > 1 ? t - ts[ts.size() - 2] : t)));
+    }
     ++res.steps;
-    const dem::DemHostState ball = testing::state(*dem);
-    ts.push_back(t);
-    zs.push_back(ball.pos[2]);
-    vs.push_back(-ball.vel[2]);
-    rs.push_back(std::hypot(ball.pos[0], ball.pos[1]));
-    fs.push_back(sph->bodyImpulses()[0].force[2] / (weight * (ts.size() > 1 ? t - ts[ts.size() - 2] : t)));
     if (series.is_open()) {
       series << ts.back() << ',' << zs.back() << ',' << vs.back() << ',' << rs.back() << ',' << fs.back() << '\n';
       if (res.steps % 500 == 0) series.flush();
     }
-    if (ball.pos[2] <= z_stop || t > t_max) break;
+    if (zs.back() <= z_stop || t > t_max) break;
   }
   // Window: one period of the column's acoustic mode (2 L / c0 = 0.08 s at c0 = 3 m/s, ~6 tau_v;
   // its pressure oscillation shakes the force on the ball), at least 3 tau_v.
   const double window = std::max(3 * res.tau, 2 * length / c0);
   const double t0 = t - window, tm = t - 0.5 * window;
-  double a = 0, b1 = 0, b2 = 0;
+  double a = 0, b1 = 0, b2 = 0, fa = 0;
   int na = 0, n1 = 0, n2 = 0;
   for (std::size_t k = 0; k < ts.size(); ++k) {
     if (ts[k] < t0) continue;
-    a += vs[k], ++na;
+    a += vs[k], fa += fs[k], ++na;
     if (ts[k] < tm)
       b1 += vs[k], ++n1;
     else
       b2 += vs[k], ++n2;
   }
   res.measured = a / std::max(na, 1);
+  res.force_ratio = fa / std::max(na, 1);
   res.steady = (b2 / std::max(n2, 1) - b1 / std::max(n1, 1)) / res.expected;
   const sph::SphSums sums = sph->sums();
   EXPECT_EQ(sums.excluded_density + sums.excluded_domain, 0);
   EXPECT_LT(t, t_max) << "the sphere did not reach the stop height";
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (towed) {
+    std::printf(
+        "towed settling sphere: R = %.1f dp, %s, %lld particles, %lld steps, %.1f s wall: at U = %.4f m/s (the law's "
+        "terminal %.4f) fluid force / (weight less buoyancy) %.4f over the last %.3f s\n",
+        r / dp, c.viscosity.c_str(), res.particles, res.steps, res.wall_s, c.tow_velocity, res.expected,
+        res.force_ratio, window);
+    return res;
+  }
   std::printf(
       "settling sphere: R = %.1f dp, %s, %lld particles, %lld steps, %.1f s wall: U = %.4f m/s against %.4f "
       "(U_inf %.4f at Re %.2f, wall factor %.3f, tau %.4f s), %+.1f%%, drift over the window %+.1f%%\n",
@@ -260,12 +297,13 @@ TEST(SettlingSphere, DISABLED_TerminalVelocityReduced) {
   expectTerminal(c);
 }
 
-// Diagnostic runs: MILLSIM_SETTLE="r_over_dp:nu:column_d[:lambda[:viscosity[:c0]]] ..." (e.g.
-// "6:1.2e-4:12", "3:1.2e-4:20::laminar_central"), each printing its result and writing
+// Diagnostic runs: MILLSIM_SETTLE="r_over_dp:nu:column_d[:lambda[:viscosity[:c0[:tow_m_s]]]] ..."
+// (e.g. "6:1.2e-4:12", "3:1.2e-4:20::laminar_central", "3:5e-4:20::::0.0492": the reduced case
+// towed at the speed it settled at), each printing its result and writing
 // settling_sphere_R<r>dp_nu<nu>_L<column>d.csv; asserts nothing beyond the run's own checks
 // (nothing excluded, stop height reached).
 TEST(SettlingSphere, DISABLED_Diagnostic) {
-  for (const auto& f : testing::envRuns("MILLSIM_SETTLE", "3:1.2e-4:20", 6)) {
+  for (const auto& f : testing::envRuns("MILLSIM_SETTLE", "3:1.2e-4:20", 7)) {
     SettlingCase c;
     c.dp = 0.5 * c.d / std::stod(f[0]);
     if (!f[1].empty()) c.nu = std::stod(f[1]);
@@ -273,8 +311,9 @@ TEST(SettlingSphere, DISABLED_Diagnostic) {
     if (!f[3].empty()) c.lambda = std::stod(f[3]);
     if (!f[4].empty()) c.viscosity = f[4];
     if (!f[5].empty()) c.c0 = std::stod(f[5]);
+    if (!f[6].empty()) c.tow_velocity = std::stod(f[6]);
     c.csv = "settling_sphere_R" + f[0] + "dp_nu" + f[1] + "_L" + f[2] + "d" + (f[3].empty() ? "" : "_lambda" + f[3]) +
-            (f[4].empty() ? "" : "_" + f[4]) + (f[5].empty() ? "" : "_c" + f[5]) + ".csv";
+            (f[4].empty() ? "" : "_" + f[4]) + (f[5].empty() ? "" : "_c" + f[5]) + (f[6].empty() ? "" : "_tow" + f[6]) + ".csv";
     runSettling(c);
   }
 }
