@@ -21,7 +21,10 @@
 // spot of its cell (offset_dp): U = 0.0492 m/s against 0.0428, +14.8% (29 099 steps, 2 191 s on
 // two threads, 2026-12-06). With the centre at a cell corner it had passed at +3.7% (2026-12-05),
 // but the corner's lattice cut is 1.063 R (docs/validation.md, "Where the centre falls").
-// Disabled for its cost. History (two lattices before 2026-12-05):
+// Towed down the same path at that 0.0492 m/s (MILLSIM_SETTLE="3:5e-4:20::::0.0492"), the shell
+// feels 1.0042 of its weight less buoyancy: the free body is consistent, the error is the SPH
+// drag's (0.863 of the law's at Re 0.6: the creeping-flow drag less 5%, without the law's
+// inertial 10%). Disabled for its cost. History (two lattices before 2026-12-05):
 // - 6 d column, with gravity, Re = 4: +49% (the sphere in the range of the lid, then the bottom).
 // - 18 d column, with gravity, Re = 4: +15% and still slowing when it reached the bottom (the
 //   tube's return flow develops by viscous diffusion across the tube, (D/2)^2 / nu = 1.1 s).
@@ -66,6 +69,7 @@
 #include "coupling/sph_dem_coupling.hpp"
 #include "sph/geometry.hpp"
 #include "support/dem_fixture.hpp"
+#include "support/drag_laws.hpp"
 #include "support/env_runs.hpp"
 #include "support/lattice_offset.hpp"
 #include "support/sph_fixture.hpp"
@@ -119,7 +123,33 @@ struct SettlingCase {
   // speed is the free sphere's terminal one). It splits a terminal-velocity error into the
   // drag's own (SPH) and the free body's (coupling, DEM step).
   double tow_velocity = 0;
+  // > 0: the run ends at this time (s) instead of at the stop height, and the terminal velocity
+  // is the mean over its last third (the creeping-flow case, whose sphere moves a fraction of a
+  // diameter while the tube's flow develops).
+  double run_time = 0;
 };
+
+// Creeping flow (Re = 0.06): the towed sphere's tube (test_sph_towed_sphere.cpp: a = 3 mm,
+// lambda = 0.25, 8 d long, nu = 1e-3 m2/s) with a free sphere of rho_s / rho0 = 2 released at
+// mid-length. Stokes' velocity (s - 1) g d^2 / (18 nu) = 0.0196 m/s over Haberman & Sayre's
+// K(0.25) = 1.979 is 0.00991 m/s; the law above gives 0.00981 (Schiller & Naumann's 3.4% at the
+// unbounded Re of 0.11, which Di Felice's exponent takes back only in part). The flow in the tube settles like its slowest viscous mode,
+// exp(-j1^2 nu t / R0^2) with j1 = 3.83 (the first zero of J1): within 1e-6 after R0^2 / nu,
+// while the sphere moves 0.3 d; the drag's pressure scale, (s - 1) rho0 g 4a/3 = 39 Pa, is 0.4%
+// of rho0 c0^2 at c0 = 3 m/s.
+SettlingCase creepingCase(double r_over_dp, double diffusion_times) {
+  SettlingCase c;
+  c.s = 2;
+  c.nu = 1e-3;
+  c.lambda = 0.25;
+  c.dp = 0.5 * c.d / r_over_dp;
+  c.length_d = 8;
+  c.start_below_lid_d = 4;
+  c.stop_above_bottom_d = 0;
+  const double r0 = 0.5 * c.d / c.lambda;
+  c.run_time = diffusion_times * r0 * r0 / c.nu;
+  return c;
+}
 
 struct SettlingResult {
   double measured = 0, expected = 0, u_inf = 0, re_inf = 0, wall = 0, tau = 0, steady = 0, wall_s = 0;
@@ -207,10 +237,29 @@ SettlingResult runSettling(const SettlingCase& c) {
   std::ofstream series;
   if (!c.csv.empty()) {
     series.open(c.csv);
-    series << "t_s,z_m,v_down_m_s,off_axis_m,fluid_force_over_weight\n";
+    series << "t_s,z_m,v_down_m_s,off_axis_m,fluid_force_over_weight,shell_front_drho,shell_rear_drho,walls_drho,"
+              "fluid_drho\n";
   }
-  // Time limit: the travel at half the expected (or towing) speed.
-  const double t_max = 2 * (start[2] - z_stop) / (towed ? c.tow_velocity : res.expected);
+  // Mean rho / rho0 - 1 of the shell's leading and trailing halves, the tube's walls and the
+  // fluid, read every 250 steps: DBC particles integrate continuity and never go below rho0, so
+  // their density, and the pressure they push the fluid away with, can drift over a long run.
+  std::array<double, 4> drho{};
+  sph::SphHostState now;
+  auto densities = [&](double z_centre) {
+    sph->getState(now);
+    std::array<double, 4> sum{}, count{};
+    for (std::size_t i = 0; i < now.size(); ++i) {
+      const int k = now.code[i] == sph::kFluid       ? 3
+                    : now.code[i] == sph::kBoundBody ? (now.pos[3 * i + 2] < z_centre ? 0 : 1)
+                                                     : 2;
+      sum[k] += now.rho[i] / c.rho0 - 1;
+      count[k] += 1;
+    }
+    for (int k = 0; k < 4; ++k) drho[k] = sum[k] / std::max(count[k], 1.0);
+  };
+  // Time limit: the travel at half the expected (or towing) speed; or the run's set time.
+  const bool timed = c.run_time > 0;
+  const double t_max = timed ? c.run_time : 2 * (start[2] - z_stop) / (towed ? c.tow_velocity : res.expected);
   const double weight = testing::ballMass(r, dsc.density) * (1 - 1 / c.s) * c.g;  // less buoyancy
   double t = 0;
   auto half = [](double) { return sph::SphMotion{}; };
@@ -241,14 +290,18 @@ SettlingResult runSettling(const SettlingCase& c) {
     }
     ++res.steps;
     if (series.is_open()) {
-      series << ts.back() << ',' << zs.back() << ',' << vs.back() << ',' << rs.back() << ',' << fs.back() << '\n';
+      if (res.steps % 250 == 1) densities(zs.back());
+      series << ts.back() << ',' << zs.back() << ',' << vs.back() << ',' << rs.back() << ',' << fs.back();
+      for (double d : drho) series << ',' << d;
+      series << '\n';
       if (res.steps % 500 == 0) series.flush();
     }
-    if (zs.back() <= z_stop || t > t_max) break;
+    if (zs.back() <= z_stop || t >= t_max) break;
   }
   // Window: one period of the column's acoustic mode (2 L / c0 = 0.08 s at c0 = 3 m/s, ~6 tau_v;
-  // its pressure oscillation shakes the force on the ball), at least 3 tau_v.
-  const double window = std::max(3 * res.tau, 2 * length / c0);
+  // its pressure oscillation shakes the force on the ball), at least 3 tau_v; a timed run's last
+  // third.
+  const double window = std::max({3 * res.tau, 2 * length / c0, timed ? c.run_time / 3 : 0.0});
   const double t0 = t - window, tm = t - 0.5 * window;
   double a = 0, b1 = 0, b2 = 0, fa = 0;
   int na = 0, n1 = 0, n2 = 0;
@@ -265,7 +318,9 @@ SettlingResult runSettling(const SettlingCase& c) {
   res.steady = (b2 / std::max(n2, 1) - b1 / std::max(n1, 1)) / res.expected;
   const sph::SphSums sums = sph->sums();
   EXPECT_EQ(sums.excluded_density + sums.excluded_domain, 0);
-  EXPECT_LT(t, t_max) << "the sphere did not reach the stop height";
+  if (!timed) {
+    EXPECT_LT(t, t_max) << "the sphere did not reach the stop height";
+  }
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (towed) {
     std::printf(
@@ -283,12 +338,41 @@ SettlingResult runSettling(const SettlingCase& c) {
   return res;
 }
 
-void expectTerminal(const SettlingCase& c) {
+SettlingResult expectTerminal(const SettlingCase& c) {
   const SettlingResult r = runSettling(c);
   ::testing::Test::RecordProperty("terminal_velocity_m_s", std::to_string(r.measured));
   ::testing::Test::RecordProperty("expected_m_s", std::to_string(r.expected));
   EXPECT_LT(std::abs(r.steady), 0.02) << "not terminal yet";
   EXPECT_NEAR(r.measured, r.expected, 0.10 * r.expected);
+  return r;
+}
+
+// Creeping flow, where the law is close to Stokes with Haberman & Sayre's wall factor (printed
+// beside it): R = 3 dp, the run to 2 R0^2 / nu. Measured 2026-12-06 (two threads, 10 588 steps,
+// 222 s): U = 0.01067 m/s, +8.7% of the law, drift over the window -0.3%: passes. But the value
+// depends on c0 and on when it is read: the fluid's mean density rises steadily in this closed
+// tube and the sphere slows with it, faster at larger c0 (c0 = 6 m/s: +5.5%, drift -1.0%;
+// 12 m/s: -0.6%, drift -2.8%, not steady; docs/validation.md, "Creeping flow"). Disabled for
+// its cost (~6 min on one thread) until that drift is understood.
+TEST(SettlingSphere, DISABLED_CreepingFlowTerminalVelocity) {
+  SettlingCase c = creepingCase(3, 2);
+  c.csv = "settling_sphere_creeping_R3dp.csv";
+  const SettlingResult r = expectTerminal(c);
+  const double stokes = (c.s - 1) * c.g * c.d * c.d / (18 * c.nu);
+  const double creeping = stokes / testing::habermanSayre(c.lambda);
+  std::printf("creeping flow: Stokes %.5f m/s, x 1 / K(%.2f) = %.5f m/s; measured / that %.4f\n", stokes, c.lambda,
+              creeping, r.measured / creeping);
+}
+
+// MILLSIM_SETTLE_CREEP="r_over_dp:diffusion_times[:c0] ..." (default "3:3"): the creeping case
+// at other resolutions, lengths of run and speeds of sound.
+TEST(SettlingSphere, DISABLED_CreepingDiagnostic) {
+  for (const auto& f : testing::envRuns("MILLSIM_SETTLE_CREEP", "3:3", 3)) {
+    SettlingCase c = creepingCase(std::stod(f[0]), f[1].empty() ? 3.0 : std::stod(f[1]));
+    if (!f[2].empty()) c.c0 = std::stod(f[2]);
+    c.csv = "settling_sphere_creeping_R" + f[0] + "dp_T" + f[1] + (f[2].empty() ? "" : "_c" + f[2]) + ".csv";
+    runSettling(c);
+  }
 }
 
 TEST(SettlingSphere, DISABLED_TerminalVelocityReduced) {

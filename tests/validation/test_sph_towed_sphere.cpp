@@ -29,6 +29,7 @@
 #include "sph/geometry.hpp"
 #include "sph/sph_engine.hpp"
 #include "sph/sph_kernels.hpp"
+#include "support/drag_laws.hpp"
 #include "support/env_runs.hpp"
 #include "support/lattice_offset.hpp"
 #include "support/tow_body.hpp"
@@ -36,10 +37,7 @@
 namespace millsim {
 namespace {
 
-double habermanSayre(double l) {
-  const double l3 = l * l * l, l5 = l3 * l * l;
-  return (1 - 0.75857 * l5) / (1 - 2.1050 * l + 2.0865 * l3 - 1.7068 * l5 + 0.72603 * l5 * l);
-}
+using testing::habermanSayre;
 
 struct TowSphereResult {
   double drag_ratio = 0;  // measured F / (6 pi mu a U K)
