@@ -141,10 +141,10 @@ struct SettlingCase {
 // lambda = 0.25, 8 d long, nu = 1e-3 m2/s) with a free sphere of rho_s / rho0 = 2 released at
 // mid-length. Stokes' velocity (s - 1) g d^2 / (18 nu) = 0.0196 m/s over Haberman & Sayre's
 // K(0.25) = 1.979 is 0.00991 m/s; the law above gives 0.00981 (Schiller & Naumann's 3.4% at the
-// unbounded Re of 0.11, which Di Felice's exponent takes back only in part). The flow in the tube settles like its slowest viscous mode,
-// exp(-j1^2 nu t / R0^2) with j1 = 3.83 (the first zero of J1): within 1e-6 after R0^2 / nu,
-// while the sphere moves 0.3 d; the drag's pressure scale, (s - 1) rho0 g 4a/3 = 39 Pa, is 0.4%
-// of rho0 c0^2 at c0 = 3 m/s.
+// unbounded Re of 0.11, which Di Felice's exponent takes back only in part). The tube's axial
+// flow starts up like its slowest viscous mode, exp(-j0^2 nu t / R0^2), j0 = 2.405 (the first
+// zero of J0): 3e-3 of it is left after R0^2 / nu, while the sphere moves 0.3 d. The drag's
+// pressure scale, (s - 1) rho0 g 4a/3 = 39 Pa, is 0.4% of rho0 c0^2 at c0 = 3 m/s.
 SettlingCase creepingCase(double r_over_dp, double diffusion_times) {
   SettlingCase c;
   c.s = 2;
@@ -391,8 +391,8 @@ TEST(SettlingSphere, DISABLED_CreepingDiagnostic) {
     c.shifting = f[4] != "noshift";
     if (!f[5].empty()) c.tow_velocity = std::stod(f[5]);
     c.csv = "settling_sphere_creeping_R" + f[0] + "dp_T" + f[1] + (f[2].empty() ? "" : "_c" + f[2]) +
-            (f[3].empty() ? "" : "_open" + f[3]) + (c.shifting ? "" : "_noshift") + (f[5].empty() ? "" : "_tow" + f[5]) +
-            ".csv";
+            (f[3].empty() ? "" : "_open" + f[3]) + (c.shifting ? "" : "_noshift") +
+            (f[5].empty() ? "" : "_tow" + f[5]) + ".csv";
     runSettling(c);
   }
 }
@@ -419,7 +419,8 @@ TEST(SettlingSphere, DISABLED_Diagnostic) {
     if (!f[5].empty()) c.c0 = std::stod(f[5]);
     if (!f[6].empty()) c.tow_velocity = std::stod(f[6]);
     c.csv = "settling_sphere_R" + f[0] + "dp_nu" + f[1] + "_L" + f[2] + "d" + (f[3].empty() ? "" : "_lambda" + f[3]) +
-            (f[4].empty() ? "" : "_" + f[4]) + (f[5].empty() ? "" : "_c" + f[5]) + (f[6].empty() ? "" : "_tow" + f[6]) + ".csv";
+            (f[4].empty() ? "" : "_" + f[4]) + (f[5].empty() ? "" : "_c" + f[5]) + (f[6].empty() ? "" : "_tow" + f[6]) +
+            ".csv";
     runSettling(c);
   }
 }
