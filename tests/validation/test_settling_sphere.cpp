@@ -442,13 +442,14 @@ TEST(SettlingSphere, DISABLED_TerminalVelocityReduced) {
   expectTerminal(c);
 }
 
-// Diagnostic runs: MILLSIM_SETTLE="r_over_dp:nu:column_d[:lambda[:viscosity[:c0[:tow_m_s]]]] ..."
-// (e.g. "6:1.2e-4:12", "3:1.2e-4:20::laminar_central", "3:5e-4:20::::0.0492": the reduced case
-// towed at the speed it settled at), each printing its result and writing
+// Diagnostic runs: MILLSIM_SETTLE="r_over_dp:nu:column_d[:lambda[:viscosity[:c0[:tow_m_s[:bg_pa]]]]]
+// ..." (e.g. "6:1.2e-4:12", "3:1.2e-4:20::laminar_central", "3:5e-4:20::::0.0492": the reduced
+// case towed at the speed it settled at; "3:7e-5:8:0.25::5:0.05:67": towed at the wet mill's Re
+// and P / (rho U^2), docs/validation.md, "Ambient pressure"), each printing its result and writing
 // settling_sphere_R<r>dp_nu<nu>_L<column>d.csv; asserts nothing beyond the run's own checks
 // (nothing excluded, stop height reached).
 TEST(SettlingSphere, DISABLED_Diagnostic) {
-  for (const auto& f : testing::envRuns("MILLSIM_SETTLE", "3:1.2e-4:20", 7)) {
+  for (const auto& f : testing::envRuns("MILLSIM_SETTLE", "3:1.2e-4:20", 8)) {
     SettlingCase c;
     c.dp = 0.5 * c.d / std::stod(f[0]);
     if (!f[1].empty()) c.nu = std::stod(f[1]);
@@ -457,9 +458,10 @@ TEST(SettlingSphere, DISABLED_Diagnostic) {
     if (!f[4].empty()) c.viscosity = f[4];
     if (!f[5].empty()) c.c0 = std::stod(f[5]);
     if (!f[6].empty()) c.tow_velocity = std::stod(f[6]);
+    if (!f[7].empty()) c.background_pa = std::stod(f[7]);
     c.csv = "settling_sphere_R" + f[0] + "dp_nu" + f[1] + "_L" + f[2] + "d" + (f[3].empty() ? "" : "_lambda" + f[3]) +
             (f[4].empty() ? "" : "_" + f[4]) + (f[5].empty() ? "" : "_c" + f[5]) + (f[6].empty() ? "" : "_tow" + f[6]) +
-            ".csv";
+            (f[7].empty() ? "" : "_bg" + f[7]) + ".csv";
     runSettling(c);
   }
 }
