@@ -8,6 +8,7 @@
 // Excluded particles sort to the end and no search finds them.
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -132,11 +133,32 @@ struct ReadT {
   MILLSIM_HD T operator()(int i) const { return v[i]; }
 };
 
+// The setup's named choices. The solver tests them with ==, so a name it does not know would
+// run as some default (a misspelt "mdbc" as DBC walls); the case reader checks its own, this is
+// for library callers who fill SphSetup themselves.
+inline void checkSetupChoices(const SphSetup& s) {
+  auto check = [](const char* field, const std::string& value, std::initializer_list<const char*> allowed) {
+    std::string list;
+    for (const char* a : allowed) {
+      if (value == a) return;
+      list += list.empty() ? a : std::string(", ") + a;
+    }
+    throw core::InputError(std::string("sph: ") + field + " = '" + value + "' is not one of: " + list);
+  };
+  check("kernel", s.kernel, {"wendland", "cubic"});
+  check("ddt", s.ddt, {"none", "molteni", "fourtakas"});
+  check("viscosity", s.viscosity, {"artificial", "laminar", "laminar_sps", "laminar_central"});
+  check("integrator", s.integrator, {"verlet", "symplectic"});
+  check("wall_velocity", s.wall_velocity, {"dbc", "no_slip", "no_slip_ghost"});
+  check("boundary", s.boundary, {"dbc", "mdbc"});
+}
+
 template <class Space, class T, int Dim>
 class SphSolver final : public SphEngine {
  public:
   explicit SphSolver(const SphSetup& s) : m_setup(s) {
     if (s.dp <= 0 || s.h <= 0 || s.c0 <= 0) throw core::InputError("sph: dp, h and c0 must be > 0");
+    checkSetupChoices(s);
     m_mass = T(s.rho0 * std::pow(s.dp, Dim));
     m_eos = TaitEos<T>::make(s.rho0, s.c0, s.gamma);
     m_eta2 = T(s.eta2_factor * s.h * s.h);

@@ -7,6 +7,7 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/simulation.hpp"
+#include "sph/sph_engine.hpp"
 
 namespace millsim {
 namespace {
@@ -61,6 +62,35 @@ TEST(SphCaseErrors, BadProbesAndEmptyFluid) {
             "t.xml:6: <probes points=\"a:0,0;a:1,1\">: probe name 'a' given twice");
   EXPECT_EQ(failure(fluidCase("dp=\"0.5\"").replace(fluidCase("dp=\"0.5\"").find("dp=\"0.01\" "), 10, "")),
             "t.xml:4: <fluid>: the box holds no particle at dp = 0.500000 m (is it smaller than dp?)");
+}
+
+// A library caller's SphSetup with a name the solver does not know is refused, naming the field
+// and the names it takes (a misspelt boundary ran as DBC walls before).
+TEST(SphCaseErrors, UnknownSetupChoiceIsRefused) {
+  sph::SphSetup s;
+  s.dp = 0.01;
+  s.h = 0.0113;
+  s.c0 = 10;
+  s.domain_lo = {0, 0, 0};
+  s.domain_hi = {1, 1, 0};
+  EXPECT_NO_THROW(sph::makeSphEngineOmp(s));
+  auto failure = [](const sph::SphSetup& bad) {
+    try {
+      sph::makeSphEngineOmp(bad);
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  sph::SphSetup b = s;
+  b.boundary = "mDBC";
+  EXPECT_EQ(failure(b), "sph: boundary = 'mDBC' is not one of: dbc, mdbc");
+  b = s;
+  b.kernel = "quintic";
+  EXPECT_EQ(failure(b), "sph: kernel = 'quintic' is not one of: wendland, cubic");
+  b = s;
+  b.viscosity = "sps";
+  EXPECT_EQ(failure(b), "sph: viscosity = 'sps' is not one of: artificial, laminar, laminar_sps, laminar_central");
 }
 
 // Issue 4: only what the scene calls for. A fluid-only case has no DEM arrays and no DEM stage;
