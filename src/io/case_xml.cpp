@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "millsim/core/error.hpp"
+#include "millsim/scene/sph_choices.hpp"
 
 namespace millsim::io {
 namespace {
@@ -476,7 +477,7 @@ Schema buildSchema() {
       number("sph", "dp", "m", above(0), [](Scene& sc) -> double& { return sc.sph.dp; },
              "Particle spacing (paper's wet mill: 0.005).")
           .mandatory(),
-      choice("sph", "kernel", {"wendland", "cubic"}, [](Scene& sc) -> std::string& { return sc.sph.kernel; },
+      choice("sph", "kernel", scene::sph_choices::kKernel, [](Scene& sc) -> std::string& { return sc.sph.kernel; },
              "Smoothing kernel: Wendland C2 or cubic spline (paper eqs. 6-7)."),
       number("sph", "coefh", "", above(0), [](Scene& sc) -> double& { return sc.sph.coefh; },
              "h = coefh dp sqrt(dimension) (DualSPHysics rule; paper's wet mill: 0.8); h must be >= dp."),
@@ -488,7 +489,7 @@ Schema buildSchema() {
              "Reference density (paper's slurry: 1400)."),
       number("sph", "gamma", "", above(0), [](Scene& sc) -> double& { return sc.sph.gamma; },
              "Tait exponent (eq. 28)."),
-      choice("sph", "viscosity", {"artificial", "laminar", "laminar_sps", "laminar_central"},
+      choice("sph", "viscosity", scene::sph_choices::kViscosity,
              [](Scene& sc) -> std::string& { return sc.sph.viscosity; },
              "artificial: Monaghan (eq. 21, alpha); laminar: Lo & Shao (eq. 23, nu); laminar_sps: Lo & Shao + SPS "
              "turbulence (eqs. 23-27, nu, Cs = 0.12, C_I = 0.0066); laminar_central: the same nu with pair forces "
@@ -501,22 +502,22 @@ Schema buildSchema() {
              "alpha multiplier for fluid-boundary pairs (paper's wet mill: 0.1)."),
       number("sph", "nu", "m^2/s", atLeast(0), [](Scene& sc) -> double& { return sc.sph.nu; },
              "Kinematic viscosity for laminar, laminar_sps and laminar_central (paper's slurry: 8.1e-6)."),
-      choice("sph", "wall_velocity", {"dbc", "no_slip", "no_slip_ghost"},
+      choice("sph", "wall_velocity", scene::sph_choices::kWallVelocity,
              [](Scene& sc) -> std::string& { return sc.sph.wall_velocity; },
              "Wall particles in the viscous terms: dbc, their own velocity (DualSPHysics and the paper; the fluid "
              "slips about a spacing past the wall); no_slip, 2 v_wall minus the mean velocity of the fluid next to "
              "them (Adami et al. 2012): no slip at the wall surface, for viscous flows; no_slip_ghost (with "
              "sph.boundary = mdbc), 2 v_wall minus the fluid velocity at the wall particle's ghost node (exact "
              "for a linear shear profile; docs/validation.md compares the two)."),
-      choice("sph", "boundary", {"dbc", "mdbc"}, [](Scene& sc) -> std::string& { return sc.sph.boundary; },
+      choice("sph", "boundary", scene::sph_choices::kBoundary, [](Scene& sc) -> std::string& { return sc.sph.boundary; },
              "Wall densities: dbc, by the continuity equation (the paper, DualSPHysics's default; the wall holds the "
              "fluid about a spacing off its surface); mdbc, from the fluid at each wall particle's mirror image "
              "across the wall (English et al. 2022, first-order consistent), which closes that gap."),
-      choice("sph", "ddt", {"none", "molteni", "fourtakas"}, [](Scene& sc) -> std::string& { return sc.sph.ddt; },
+      choice("sph", "ddt", scene::sph_choices::kDdt, [](Scene& sc) -> std::string& { return sc.sph.ddt; },
              "Density diffusion: none, Molteni & Colagrossi 2009, Fourtakas et al. 2019 (eqs. 17-20)."),
       number("sph", "ddt_value", "", atLeast(0), [](Scene& sc) -> double& { return sc.sph.ddt_value; },
              "delta of the density diffusion term."),
-      choice("sph", "integrator", {"verlet", "symplectic"},
+      choice("sph", "integrator", scene::sph_choices::kIntegrator,
              [](Scene& sc) -> std::string& { return sc.sph.integrator; },
              "Verlet (an Euler step every verlet_steps) or symplectic position Verlet (eqs. 30-39)."),
       integer("sph", "verlet_steps", "", atLeast(1), [](Scene& sc) -> int& { return sc.sph.verlet_steps; },

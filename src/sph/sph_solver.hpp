@@ -8,14 +8,15 @@
 // Excluded particles sort to the end and no search finds them.
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
+#include "millsim/scene/sph_choices.hpp"
 #include "sph/density_diffusion.hpp"
 #include "sph/diffusion_stability.hpp"
 #include "sph/kernels.hpp"
@@ -137,20 +138,19 @@ struct ReadT {
 // run as some default (a misspelt "mdbc" as DBC walls); the case reader checks its own, this is
 // for library callers who fill SphSetup themselves.
 inline void checkSetupChoices(const SphSetup& s) {
-  auto check = [](const char* field, const std::string& value, std::initializer_list<const char*> allowed) {
+  namespace choices = scene::sph_choices;
+  auto check = [](const char* field, const std::string& value, const std::vector<std::string>& allowed) {
+    if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
     std::string list;
-    for (const char* a : allowed) {
-      if (value == a) return;
-      list += list.empty() ? a : std::string(", ") + a;
-    }
+    for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
     throw core::InputError(std::string("sph: ") + field + " = '" + value + "' is not one of: " + list);
   };
-  check("kernel", s.kernel, {"wendland", "cubic"});
-  check("ddt", s.ddt, {"none", "molteni", "fourtakas"});
-  check("viscosity", s.viscosity, {"artificial", "laminar", "laminar_sps", "laminar_central"});
-  check("integrator", s.integrator, {"verlet", "symplectic"});
-  check("wall_velocity", s.wall_velocity, {"dbc", "no_slip", "no_slip_ghost"});
-  check("boundary", s.boundary, {"dbc", "mdbc"});
+  check("kernel", s.kernel, choices::kKernel);
+  check("ddt", s.ddt, choices::kDdt);
+  check("viscosity", s.viscosity, choices::kViscosity);
+  check("integrator", s.integrator, choices::kIntegrator);
+  check("wall_velocity", s.wall_velocity, choices::kWallVelocity);
+  check("boundary", s.boundary, choices::kBoundary);
 }
 
 template <class Space, class T, int Dim>
