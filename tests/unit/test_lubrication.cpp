@@ -59,10 +59,8 @@ TEST(Lubrication, ReynoldsSqueezeLimitAtOneThousandthOfTheRadius) {
     p.inner = 1e-5;
     const auto r = JeffreyOnishi<double>{p}.pair({0, 0, 1}, h, a, b, {0, 0, -v}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0});
     const double reynolds = 6 * kPi * mu * v * std::pow(a * b / (a + b), 2) / h;
+    // (Equal spheres: the 3/2 pi mu a^2 v / h.)
     EXPECT_NEAR(r.force.z / reynolds, 1.0, 0.02) << rj_over;
-    if (rj_over == 1.0) {
-      EXPECT_NEAR(reynolds, 1.5 * kPi * mu * a * a * v / h, 1e-12 * reynolds);
-    }
   }
   // Sphere-wall: 6 pi mu a^2 v / h (Brenner 1961).
   const double a = 1e-3, h = 0.001 * a;
@@ -224,7 +222,7 @@ Bounce integrateBounce(double a, double m, double v0, double mu, double kn, doub
   return b;
 }
 
-TEST(Lubrication, ApproachingPairLosesEnergyAccordingToStokesNumber) {
+TEST(Lubrication, SphereApproachingAWallLosesEnergyAccordingToStokesNumber) {
   const double a = 1e-3, rho = 6000, m = rho * 4.0 / 3.0 * kPi * a * a * a, v0 = 0.5, e = 0.5, kn = 1e5;
   const double h0 = 0.05 * 2 * a, h_in = 0.001 * 2 * a;
   auto xw = [&](double h) { return 6 * kPi * a * a / h + 6 * kPi * a / 5 * std::log(a / h); };
@@ -242,7 +240,6 @@ TEST(Lubrication, ApproachingPairLosesEnergyAccordingToStokesNumber) {
     const double vc = v0 - mu * integral / m;
     // Contact speed: 0.5% covers the first-order position update at dt = t_c / 4000.
     EXPECT_NEAR(wet.v_contact / vc, 1.0, 5e-3) << "St " << st;
-    EXPECT_NEAR(vc / v0, 1.0 - integral / (6 * kPi * a * a * st), 1e-12);
     const double z =
         (2 * millsim::dem::linearDampingRatio(e) * std::sqrt(m * kn) + mu * xw(h_in)) / (2 * std::sqrt(m * kn));
     const double e_contact = std::exp(-kPi * z / std::sqrt(1 - z * z));

@@ -110,6 +110,11 @@ TEST(CalibrateCli, TwinExperimentRecoversFriction) {
   const double e = j["best"]["e"], mu = j["best"]["mu"];
   std::printf("twin: e = %.4f (truth 0.40), mu = %.4f (truth 0.20), SSE %.3f, %d candidates, %.0f s\n", e, mu,
               j["best"]["sse"].get<double>(), j["iterations"].get<int>(), j["wall_time_s"].get<double>());
+  // 0.05 in mu: each simulated angle scatters by up to 1.3 deg (sd, over charge seeds;
+  // docs/calibration.md), the mean of three drums by 1.3 / sqrt(3) = 0.75 deg, and the angle moves
+  // 38 deg per unit of mu here: 2 sd of mu = 2 x 0.75 / 38 = 0.04, rounded up. e is not asserted:
+  // the angle moves <= 1.3 deg over the whole e range at these settings (docs/calibration.md,
+  // "e is not identified"), below the noise.
   EXPECT_NEAR(mu, 0.20, 0.05);
   EXPECT_TRUE(fs::exists(dir / "calib" / "sse_map.png"));
   EXPECT_TRUE(fs::exists(dir / "calib" / "evaluations.csv"));

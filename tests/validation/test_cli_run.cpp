@@ -120,10 +120,11 @@ TEST(CliRun, WritesOutputsAndRestarts) {
   EXPECT_NEAR(s["simulated_time_s"].get<double>(), 1.0, 1e-4);
   // The drum turns: the walls did positive work, all of it (and the compaction's) dissipated
   // within the energy budget. Budget: work_in = dKE + dPE + elastic + dissipated; the residual
-  // is the integration error of the step (a few % at t_c/50 with sliding contacts).
+  // is the integration error of the step: within 5% of the work in at t_c/50 with sliding contacts,
+  // the bound DrumStability (tests/stability/test_drum_stability.cpp) holds this same case to.
   const double work = s["energy"]["work_in_J"], residual = s["energy"]["budget_residual_J"];
   EXPECT_GT(work, 0.0);
-  EXPECT_LT(std::abs(residual), 0.05 * s["energy"]["dissipated_J"].get<double>());
+  EXPECT_LT(std::abs(residual), 0.05 * work);
   for (const char* k : {"backend", "threads", "wall_time_s", "steps", "stages", "memory_bytes", "power_W", "energy"})
     EXPECT_TRUE(s.contains(k)) << k;
   ASSERT_TRUE(fs::exists(out + "/series.csv"));

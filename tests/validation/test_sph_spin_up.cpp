@@ -164,7 +164,10 @@ SpinUpResult runSpinUp(int n_radius, const char* integrator, const char* csv, co
   return res;
 }
 
-TEST(SphSpinUp, VerletStaysStableAndTheWallDragsTheFluidAtItsSpeed) {
+// Verlet at 2.6 times its viscous limit by the CFL step alone, held stable by the limit; then
+// the symplectic scheme on the same case: the profile error is spatial (the wall's slip), not
+// the integrator's, so the two agree closely (measured: the same rms to 3 digits).
+TEST(SphSpinUp, VerletStaysStableAndSymplecticGivesTheSameProfile) {
   const SpinUpResult r = runSpinUp(40, "verlet", "sph_spin_up_R40dp_verlet.csv");
   std::printf(
       "spin-up, R = 40 dp, Verlet: CFL step / viscous limit %.2f, rms error %.4f Omega R, next to the "
@@ -182,19 +185,20 @@ TEST(SphSpinUp, VerletStaysStableAndTheWallDragsTheFluidAtItsSpeed) {
   // The profile: rms error at each time within 8% of Omega R, a regression bound on a known
   // spatial error (measured 6.1% here, 5.4% at c0 = 5 m/s; see the top of the file).
   EXPECT_LT(r.rms_error, 0.08);
-}
 
-TEST(SphSpinUp, SymplecticGivesTheSameProfile) {
-  const SpinUpResult r = runSpinUp(40, "symplectic", "sph_spin_up_R40dp_symplectic.csv");
+  const SpinUpResult s = runSpinUp(40, "symplectic", "sph_spin_up_R40dp_symplectic.csv");
   std::printf(
       "spin-up, R = 40 dp, symplectic: CFL step / viscous limit %.2f, rms error %.4f Omega R, next to the "
       "wall %.4f Omega R, %lld excluded\n",
-      r.dt_ratio, r.rms_error, r.wall_error, r.excluded);
+      s.dt_ratio, s.rms_error, s.wall_error, s.excluded);
   // Its limit (mu <= 2) is 15 times the Verlet one's: the CFL step is well inside it.
-  EXPECT_LT(r.dt_ratio, 1.0);
-  EXPECT_EQ(r.excluded, 0);
-  EXPECT_NEAR(r.wall_error, 0.0, 0.03);
-  EXPECT_LT(r.rms_error, 0.08);
+  EXPECT_LT(s.dt_ratio, 1.0);
+  EXPECT_EQ(s.excluded, 0);
+  // The same profile: rms and wall-ring errors within 0.2% of Omega R of Verlet's (a tenth of
+  // the slip the no-slip wall velocity removes, below; the integrators' own errors at these
+  // steps are O(dt^2) of a diffusion over ~1e4 steps, far smaller).
+  EXPECT_NEAR(s.rms_error, r.rms_error, 0.002);
+  EXPECT_NEAR(s.wall_error, r.wall_error, 0.002);
 }
 
 // The no-slip wall velocity (Adami et al. 2012) removes most of the slip.
