@@ -1,6 +1,6 @@
 #pragma once
 // The names each SPH setup choice takes, in one place: the case parser offers them (and lists
-// them in `millsim case-help`), and SphSolver refuses anything else when the library is driven
+// them in `millsim describe`), and SphSolver refuses anything else when the library is driven
 // without a case file. A new kernel or viscosity form is added here once.
 #include <string>
 #include <vector>
