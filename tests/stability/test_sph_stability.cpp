@@ -42,7 +42,12 @@ TEST(SphStability, ViolentSloshingFinishesWithoutLosses) {
     vmax = std::max(vmax, v);
   }
   EXPECT_GT(vmax, 1.5);
-  EXPECT_LT(vmax, 10.0);  // bounded: c0 = 31 m/s
+  // Bounded by what the tank can give: water thrown off a wall leaves it at most at twice the
+  // wall's speed (an elastic reflection off the moving corner, omega R_corner = 1.11 m/s) and
+  // then falls at most the tank's diagonal (sqrt(2 g 0.707 m) = 3.72 m/s): 5.9 m/s. Measured
+  // 2.6 m/s; a pressure blow-up would reach a fraction of c0 = 31 m/s.
+  const double omega = 30 * 2 * M_PI / 60, corner = 0.5 * std::sqrt(0.5);
+  EXPECT_LT(vmax, 2 * omega * corner + std::sqrt(2 * 9.81 * 2 * corner));
   for (double rho : r.series.at("rho_max")) EXPECT_LT(rho, 1050.0);  // weakly compressible: < 5%
 }
 
