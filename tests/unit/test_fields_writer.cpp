@@ -30,6 +30,7 @@
 
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
+#include "support/shell_command.hpp"
 
 namespace fs = std::filesystem;
 namespace mio = millsim::io;
@@ -241,17 +242,6 @@ std::string findProgram(const std::string& name) {
   return fs::exists("/usr/bin/" + name) ? "/usr/bin/" + name : "";
 }
 
-// stdout+stderr of a shell command, and its exit status.
-std::pair<int, std::string> runCommand(const std::string& command) {
-  std::string output;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return {-1, output};
-  std::array<char, 4096> buffer{};
-  for (std::size_t n; (n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0;) output.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
 mio::CheckpointData sampleCheckpoint() {
   mio::CheckpointData cp;
   cp.time = 1.2345678901234567;
@@ -312,7 +302,7 @@ TEST(FieldsWriter, H5dumpReadsTheSnapshot) {
     mio::FieldsWriter writer(dir.path());
     writer.write(makeFrame(0.25, 100, 5));
   }
-  const auto [status, output] = runCommand(h5dump + " -H '" + (dir.path() / "fields/frame_000000.h5").string() + "'");
+  const auto [status, output] = millsim::testing::runShell(h5dump + " -H '" + (dir.path() / "fields/frame_000000.h5").string() + "'");
   EXPECT_EQ(status, 0) << output;
   EXPECT_NE(output.find("DATASET \"position\""), std::string::npos) << output;
   EXPECT_NE(output.find("( 5, 3 )"), std::string::npos) << output;

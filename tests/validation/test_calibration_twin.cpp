@@ -18,25 +18,13 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "support/shell_command.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result shell(const std::string& cmd) {
-  Result r{-1, ""};
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.output += buf;
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = millsim::testing::ShellResult;
 
 const std::string kCli = MILLSIM_CLI;
 const std::string kSource = MILLSIM_SOURCE_DIR;
@@ -80,7 +68,7 @@ TEST(CalibrateCli, BadInputExitsWith2) {
       {"--diameters 300,400,500 --measured-videos a.mp4,b.mp4,c.mp4", "a.mp4: no such file"},
   };
   for (const auto& c : cases) {
-    const Result r = shell(base + c.args);
+    const Result r = millsim::testing::runShell(base + c.args);
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }
@@ -91,7 +79,7 @@ TEST(CalibrateCli, TwinExperimentRecoversFriction) {
   // 1. The "measured" angles, from the truth.
   std::string measured;
   for (const char* d : {"300", "400", "500"}) {
-    const Result r = shell(kCli + " run " + kSource + "/cases/ball_mill_" + d + "_balls.xml -q --threads 1" +
+    const Result r = millsim::testing::runShell(kCli + " run " + kSource + "/cases/ball_mill_" + d + "_balls.xml -q --threads 1" +
                            " --precision float --out " + (dir / ("truth_" + std::string(d))).string() + kReduced +
                            " --set dem.restitution=0.40 --set dem.friction=0.20");
     ASSERT_EQ(r.code, 0) << r.output;
@@ -104,7 +92,7 @@ TEST(CalibrateCli, TwinExperimentRecoversFriction) {
   const std::string cmd = kCli + " calibrate --diameters 300,400,500 --measured " + measured + " --case-template " +
                           kSource + "/cases/ball_mill_{D}_balls.xml --mu-range 0.05,0.45 --precision float" +
                           " --parallel 2 --max-evals 20 --out " + (dir / "calib").string() + kReduced;
-  const Result r = shell(cmd);
+  const Result r = millsim::testing::runShell(cmd);
   ASSERT_EQ(r.code, 0) << r.output;
   const auto j = readJson(dir / "calib" / "calibration.json");
   const double e = j["best"]["e"], mu = j["best"]["mu"];
@@ -119,7 +107,7 @@ TEST(CalibrateCli, TwinExperimentRecoversFriction) {
   EXPECT_TRUE(fs::exists(dir / "calib" / "sse_map.png"));
   EXPECT_TRUE(fs::exists(dir / "calib" / "evaluations.csv"));
   // 3. Started again: everything is in the journal, nothing is simulated.
-  const Result again = shell(cmd);
+  const Result again = millsim::testing::runShell(cmd);
   ASSERT_EQ(again.code, 0) << again.output;
   const auto j2 = readJson(dir / "calib" / "calibration.json");
   EXPECT_EQ(j2["evaluated_this_session"].get<int>(), 0);

@@ -17,26 +17,13 @@
 
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/simulation.hpp"
+#include "support/shell_command.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result shell(const std::string& cmd) {
-  Result r{-1, ""};
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.output += buf;
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = millsim::testing::ShellResult;
 
 std::string cli() { return MILLSIM_CLI; }
 std::string sourceDir() { return MILLSIM_SOURCE_DIR; }
@@ -73,7 +60,7 @@ void expectInputError(const Result& r, const std::string& where) {
 TEST(CliBadInput, MalformedXml) {
   const auto dir = tempDir("malformed");
   const auto f = writeCase(dir, "<millsim>\n  <time end=\"1\"\n</millsim>\n");
-  expectInputError(shell(cli() + " validate " + f), f + ":");
+  expectInputError(millsim::testing::runShell(cli() + " validate " + f), f + ":");
 }
 
 TEST(CliBadInput, MissingAttribute) {
@@ -81,7 +68,7 @@ TEST(CliBadInput, MissingAttribute) {
   std::string text = minimalCase();
   text.replace(text.find("end=\"1\""), 7, "");
   const auto f = writeCase(dir, text);
-  const Result r = shell(cli() + " run " + f + " --out " + (dir / "out").string());
+  const Result r = millsim::testing::runShell(cli() + " run " + f + " --out " + (dir / "out").string());
   expectInputError(r, f + ":13:");
   EXPECT_NE(r.output.find("'end'"), std::string::npos) << r.output;
 }
@@ -91,7 +78,7 @@ TEST(CliBadInput, NegativeDiameter) {
   std::string text = minimalCase();
   text.replace(text.find("diameter=\"0.1\""), 14, "diameter=\"-0.1\"");
   const auto f = writeCase(dir, text);
-  const Result r = shell(cli() + " validate " + f);
+  const Result r = millsim::testing::runShell(cli() + " validate " + f);
   expectInputError(r, f + ":18:");
   EXPECT_NE(r.output.find("diameter"), std::string::npos);
 }
@@ -103,7 +90,7 @@ TEST(CliBadInput, ImpossibleFilling) {
   text.replace(text.find("filling=\"0.3\""), 13, "filling=\"0.7\"");
   text.replace(text.find("length_factor=\"3\""), 17, "length_factor=\"1\"");
   const auto f = writeCase(dir, text);
-  const Result r = shell(cli() + " validate " + f);
+  const Result r = millsim::testing::runShell(cli() + " validate " + f);
   expectInputError(r, f + ":21:");
   EXPECT_NE(r.output.find("do not fit"), std::string::npos) << r.output;
 }
@@ -111,7 +98,7 @@ TEST(CliBadInput, ImpossibleFilling) {
 TEST(CliRun, WritesOutputsAndRestarts) {
   const auto dir = tempDir("run");
   const std::string out = (dir / "out").string();
-  const Result r = shell(cli() + " run " + sourceDir() + "/cases/minimal_drum.xml --out " + out + " -q");
+  const Result r = millsim::testing::runShell(cli() + " run " + sourceDir() + "/cases/minimal_drum.xml --out " + out + " -q");
   ASSERT_EQ(r.code, 0) << r.output;
   nlohmann::json s = nlohmann::json::parse(std::ifstream(out + "/summary.json"));
   EXPECT_EQ(s["status"], "ok");
@@ -131,12 +118,12 @@ TEST(CliRun, WritesOutputsAndRestarts) {
   ASSERT_TRUE(fs::exists(out + "/fields.xdmf"));
   ASSERT_TRUE(fs::exists(out + "/checkpoint.h5"));
   if (fs::exists("/usr/bin/h5dump")) {
-    const Result h = shell("h5dump -H " + out + "/fields/frame_000000.h5");
+    const Result h = millsim::testing::runShell("h5dump -H " + out + "/fields/frame_000000.h5");
     EXPECT_EQ(h.code, 0);
     EXPECT_NE(h.output.find("position"), std::string::npos);
   }
   // Restart from the final checkpoint and run 0.2 s more.
-  const Result r2 = shell(cli() + " run " + sourceDir() + "/cases/minimal_drum.xml --out " + out +
+  const Result r2 = millsim::testing::runShell(cli() + " run " + sourceDir() + "/cases/minimal_drum.xml --out " + out +
                           " --restart " + out + "/checkpoint.h5 --set time.end=1.2 -q");
   ASSERT_EQ(r2.code, 0) << r2.output;
   nlohmann::json s2 = nlohmann::json::parse(std::ifstream(out + "/summary.json"));

@@ -12,17 +12,9 @@
 #include <string>
 #include <vector>
 
-namespace {
+#include "support/shell_command.hpp"
 
-std::string capture(const std::string& cmd) {
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[256];
-    while (fgets(buf, sizeof buf, p)) out += buf;
-    pclose(p);
-  }
-  return out;
-}
+namespace {
 
 // The columns of sweep.csv that a run's physics sets (index .. steps), per row.
 std::vector<std::string> physicsColumns(const std::filesystem::path& csv) {
@@ -38,7 +30,7 @@ std::vector<std::string> physicsColumns(const std::filesystem::path& csv) {
 }
 
 TEST(MpiSweep, TwoRanksWriteTheRowsOfOneProcess) {
-  if (capture(std::string(MILLSIM_CLI) + " info").find("\"mpi_compiled\": true") == std::string::npos)
+  if (millsim::testing::runShell(std::string(MILLSIM_CLI) + " info").output.find("\"mpi_compiled\": true") == std::string::npos)
     GTEST_SKIP() << "this build has no MPI (MILLSIM_MPI, libopenmpi-dev)";
   if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not found (openmpi-bin)";
   const auto dir = std::filesystem::temp_directory_path() / "millsim_test_mpi_sweep";

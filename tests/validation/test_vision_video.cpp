@@ -33,6 +33,7 @@
 #include "millsim/vision/video_angle.hpp"
 #include "millsim/vision/video_slurry.hpp"
 #include "synthetic_mill.hpp"
+#include "support/shell_command.hpp"
 
 namespace fs = std::filesystem;
 namespace mv = millsim::vision;
@@ -96,20 +97,6 @@ double measure(const Case& c, double* stderr_deg = nullptr) {
   return r.angle.angle_deg;
 }
 
-struct Shell {
-  int code;
-  std::string out;
-};
-Shell shell(const std::string& cmd) {
-  Shell r{-1, ""};
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.out += buf;
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
 
 }  // namespace
 
@@ -248,10 +235,10 @@ TEST(VisionVideo, CliWritesOutputsAndMapsErrorsToExitTwo) {
   sc.surface_angle_deg = 42.0;
   const std::string video = makeRecording(sc, "mp4", "cli_balls", 12);
   const fs::path out = tempDir() / "cli_out";
-  const Shell ok = shell(std::string(MILLSIM_CLI) + " vision angle --video " + video +
+  const auto ok = millsim::testing::runShell(std::string(MILLSIM_CLI) + " vision angle --video " + video +
                          " --diameter-mm 300 --frames 10 --mode balls --out " + out.string());
-  ASSERT_EQ(ok.code, 0) << ok.out;
-  const auto j = nlohmann::json::parse(ok.out.substr(ok.out.find('{')));
+  ASSERT_EQ(ok.code, 0) << ok.output;
+  const auto j = nlohmann::json::parse(ok.output.substr(ok.output.find('{')));
   EXPECT_NEAR(j["angle_deg"].get<double>(), 42.0, 1.0);
   EXPECT_GT(j["stderr_deg"].get<double>(), 0.0);
   EXPECT_EQ(j["frames"].get<int>(), 10);
@@ -264,31 +251,31 @@ TEST(VisionVideo, CliWritesOutputsAndMapsErrorsToExitTwo) {
   ms::MillScene wet;
   wet.content = ms::Content::Slurry;
   const std::string frames = makeRecording(wet, "jpg", "cli_slurry", 12);
-  const Shell sl = shell(std::string(MILLSIM_CLI) + " vision slurry --images " + frames + " --out " + out.string());
-  ASSERT_EQ(sl.code, 0) << sl.out;
+  const auto sl = millsim::testing::runShell(std::string(MILLSIM_CLI) + " vision slurry --images " + frames + " --out " + out.string());
+  ASSERT_EQ(sl.code, 0) << sl.output;
   std::ifstream curve(out / "slurry_curve.csv");
   std::string header;
   std::getline(curve, header);
   EXPECT_EQ(header.rfind("x_mm,y_fit_mm,y_low_mm,y_high_mm", 0), 0u) << header;
   EXPECT_TRUE(fs::exists(out / "slurry_overlay.png"));
 
-  const Shell missing = shell(std::string(MILLSIM_CLI) + " vision angle --video /nonexistent/x.mp4");
-  EXPECT_EQ(missing.code, 2) << missing.out;
-  EXPECT_NE(missing.out.find("/nonexistent/x.mp4: no such video file"), std::string::npos) << missing.out;
+  const auto missing = millsim::testing::runShell(std::string(MILLSIM_CLI) + " vision angle --video /nonexistent/x.mp4");
+  EXPECT_EQ(missing.code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent/x.mp4: no such video file"), std::string::npos) << missing.output;
   const fs::path text = tempDir() / "cli_notes.avi";
   std::ofstream(text) << "not a video";
-  const Shell bad = shell(std::string(MILLSIM_CLI) + " vision angle --video " + text.string());
-  EXPECT_EQ(bad.code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("cannot open as a video"), std::string::npos) << bad.out;
-  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << "one line: " << bad.out;
+  const auto bad = millsim::testing::runShell(std::string(MILLSIM_CLI) + " vision angle --video " + text.string());
+  EXPECT_EQ(bad.code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("cannot open as a video"), std::string::npos) << bad.output;
+  EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << "one line: " << bad.output;
   const fs::path nocircle = tempDir() / "cli_nocircle";
   fs::create_directories(nocircle);
   cv::imwrite((nocircle / "f1.png").string(), cv::Mat(200, 200, CV_8UC3, cv::Scalar(90, 90, 90)));
-  const Shell none = shell(std::string(MILLSIM_CLI) + " vision angle --images " + nocircle.string());
-  EXPECT_EQ(none.code, 2) << none.out;
-  EXPECT_NE(none.out.find("no mill outline found"), std::string::npos) << none.out;
-  const Shell neither = shell(std::string(MILLSIM_CLI) + " vision slurry");
-  EXPECT_EQ(neither.code, 2) << neither.out;
+  const auto none = millsim::testing::runShell(std::string(MILLSIM_CLI) + " vision angle --images " + nocircle.string());
+  EXPECT_EQ(none.code, 2) << none.output;
+  EXPECT_NE(none.output.find("no mill outline found"), std::string::npos) << none.output;
+  const auto neither = millsim::testing::runShell(std::string(MILLSIM_CLI) + " vision slurry");
+  EXPECT_EQ(neither.code, 2) << neither.output;
 }
 
 // Simulated balls (discs in the drum's inner circle) go through FrontViewAngle, as in
