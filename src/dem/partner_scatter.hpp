@@ -155,8 +155,8 @@ class PartnerScatter<backend::Omp, T> {
   // Chunk k's window holds the partners past its end, hi .. the highest partner its particles
   // list: in cell order a few cell layers (28 B per particle at 2 threads when each window
   // was n rows long). Without a list (listChanged not called) every window reaches n. Sized
-  // once per list and thread count; the rows only grow, so a rebuild allocates only when a
-  // window outgrows every earlier one.
+  // once per list and thread count; the rows only grow, so a rebuild allocates only when the
+  // windows outgrow every earlier size by more than the quarter kept spare.
   void sizeWindows(int n, int threads, int chunk) {
     if (m_windows_of == threads && m_windows_n == n) return;
     m_offset.assign(static_cast<std::size_t>(threads) + 1, 0);  // same sizes: no allocation
@@ -178,7 +178,10 @@ class PartnerScatter<backend::Omp, T> {
       const std::size_t rows = static_cast<std::size_t>(std::max(0, highest[static_cast<std::size_t>(k)] - hi + 1));
       m_offset[static_cast<std::size_t>(k) + 1] = m_offset[static_cast<std::size_t>(k)] + rows;
     }
-    if (m_rows.size() < m_offset.back()) m_rows.assign(m_offset.back(), PartnerRow<T>{});
+    // With a quarter to spare, as the neighbour list: a bed that packs a little tighter at the
+    // next rebuild then finds its rows already there.
+    const std::size_t need = m_offset.back();
+    if (m_rows.size() < need) m_rows.assign(need + need / 4 + 64, PartnerRow<T>{});
     m_windows_of = threads;
     m_windows_n = n;
   }
