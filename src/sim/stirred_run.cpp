@@ -338,13 +338,15 @@ void StirredRun::Impl::run() {
     lv.t_begin = k * levelLength();
     lv.t_average = lv.t_begin + scene.stirrer.ramp + scene.stirrer.average_from * scene.stirrer.hold;
     lv.t_end = lv.t_begin + levelLength();
+    lv.t_mid = 0.5 * (lv.t_average + lv.t_end);
+    lv.revolutions_held = lv.rpm / 60 * scene.stirrer.hold;
     levels.push_back(lv);
   }
   const dem::DemSums e0 = engine->sums();
   const dem::StirredSums s0 = engine->stirredSums();
   std::size_t level = 0;
-  double level_work0 = 0;
-  bool level_open = false;
+  double level_work0 = 0, level_work_mid = 0;
+  bool level_open = false, level_mid_taken = false;
   double next_series = 0, next_sample = scene.collisions.start;
   double stats_t0 = -1;
   auto book = [&](const dem::DemSums& now, const dem::StirredSums& st) {
@@ -366,6 +368,12 @@ void StirredRun::Impl::run() {
         level_work0 = engine->sums().work_in;
         levels[level].t_average = t;
         level_open = true;
+        level_mid_taken = false;
+      }
+      if (level_open && !level_mid_taken && t >= levels[level].t_mid - 0.5 * dt) {
+        level_work_mid = engine->sums().work_in;
+        levels[level].t_mid = t;
+        level_mid_taken = true;
       }
       const bool closing = level_open && t >= levels[level].t_end - 0.5 * dt;
       if (t >= next_series - 1e-9 * dt || closing) {
@@ -399,6 +407,10 @@ void StirredRun::Impl::run() {
           lv.t_end = t;
           lv.power_W = (now.work_in - level_work0) / std::max(t - lv.t_average, 1e-300);
           lv.net_power_W = lv.power_W - scene.stirrer.idle_power_W;
+          lv.power_first_half_W = (level_work_mid - level_work0) / std::max(lv.t_mid - lv.t_average, 1e-300);
+          lv.power_second_half_W = (now.work_in - level_work_mid) / std::max(t - lv.t_mid, 1e-300);
+          lv.steady = std::abs(lv.power_second_half_W - lv.power_first_half_W) <=
+                      kSteadyPowerChange * std::abs(lv.power_W);
           if (lv.samples > 0) {
             lv.stirrer_torque_Nm /= lv.samples;
             lv.outer_torque_Nm /= lv.samples;
@@ -455,10 +467,13 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
   {
     std::ofstream f(out / "power.csv");
     f << std::setprecision(9)
-      << "rpm,power_W,net_power_W,stirrer_torque_Nm,outer_torque_Nm,window_from_s,window_to_s,samples\n";
+      << "rpm,power_W,net_power_W,stirrer_torque_Nm,outer_torque_Nm,window_from_s,window_to_s,samples,"
+         "power_first_half_W,power_second_half_W,steady,revolutions_held\n";
     for (const auto& lv : levels)
       f << lv.rpm << "," << lv.power_W << "," << lv.net_power_W << "," << lv.stirrer_torque_Nm << ","
-        << lv.outer_torque_Nm << "," << lv.t_average << "," << lv.t_end << "," << lv.samples << "\n";
+        << lv.outer_torque_Nm << "," << lv.t_average << "," << lv.t_end << "," << lv.samples << ","
+        << lv.power_first_half_W << "," << lv.power_second_half_W << "," << (lv.steady ? 1 : 0) << ","
+        << lv.revolutions_held << "\n";
   }
   if (levels.size() > 1) {
     io::PlotSeries p;
@@ -485,7 +500,11 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
                        {"net_power_W", lv.net_power_W},
                        {"stirrer_torque_Nm", lv.stirrer_torque_Nm},
                        {"outer_torque_Nm", lv.outer_torque_Nm},
-                       {"window_s", {lv.t_average, lv.t_end}}});
+                       {"window_s", {lv.t_average, lv.t_end}},
+                       {"window_mid_s", lv.t_mid},
+                       {"power_halves_W", {lv.power_first_half_W, lv.power_second_half_W}},
+                       {"steady", lv.steady},
+                       {"revolutions_held", lv.revolutions_held}});
   j["stirred"] = {{"beads", summary.particles},
                   {"neighbour_rebuilds", summary.neighbour_rebuilds},
                   {"coordination_number_end", coordination_end},

@@ -26,7 +26,16 @@ struct StirredLevel {
   double stirrer_torque_Nm = 0;                  // mean torque of the beads on the stirrer (motor torque = -this)
   double outer_torque_Nm = 0;                    // mean torque of the beads on the still chamber
   int samples = 0;
+  // Steadiness: the stirrer's power over each half of the window. A bed started from rest needs
+  // revolutions to dilate (the seed: 5-10 before its torque is steady); while it does, the
+  // halves differ. steady: |second - first| <= kSteadyPowerChange of power_W.
+  double t_mid = 0;
+  double power_first_half_W = 0, power_second_half_W = 0;
+  double revolutions_held = 0;  // rpm / 60 x hold
+  bool steady = false;
 };
+
+inline constexpr double kSteadyPowerChange = 0.10;
 
 // work_in = dKE + dPE + d(elastic) + contact dissipation + lubrication dissipation + residual.
 struct StirredEnergy {

@@ -131,6 +131,16 @@ TEST(StirredMillCase, DryEnergyBudgetPowerAndStatistics) {
     EXPECT_NEAR(-double(l["stirrer_torque_Nm"]) * omega / double(l["power_W"]), 1.0, 0.15);
     // The chamber is dragged along the stirrer's sense: positive torque on it.
     EXPECT_GT(double(l["outer_torque_Nm"]), 0.0);
+    // The window's halves split its work: their powers weighted by their lengths give the
+    // window's power (to rounding: 1e-9).
+    const double from = l["window_s"][0], to = l["window_s"][1], mid = l["window_mid_s"];
+    ASSERT_GT(mid, from);
+    ASSERT_LT(mid, to);
+    const double p1 = l["power_halves_W"][0], p2 = l["power_halves_W"][1];
+    EXPECT_NEAR((p1 * (mid - from) + p2 * (to - mid)) / (to - from), double(l["power_W"]),
+                1e-9 * std::abs(double(l["power_W"])));
+    // The CI slice's 10 ms hold is 0.17-0.33 revolutions: far from the 5-10 the seed needed.
+    EXPECT_NEAR(double(l["revolutions_held"]), double(l["rpm"]) / 60 * 0.01, 1e-12);
   }
   // eta = 0: no lubrication stage, no lubrication bytes.
   EXPECT_EQ(int(r.summary["memory_bytes"].value("dem.lubrication", 0)), 0);
