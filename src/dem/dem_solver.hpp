@@ -21,6 +21,7 @@
 #include "dem/reorder_kernels.hpp"
 #include "dem/rigid_body.hpp"
 #include "dem/walls/stirrer_walls.hpp"
+#include "millsim/core/capacity.hpp"
 #include "millsim/core/error.hpp"
 #include "millsim/neighbors/cell_list.hpp"
 
@@ -872,7 +873,7 @@ class DemSolver final : public DemEngine {
     backend::parallelFor(Space{}, m_n, CountLoadedSprings<T>{m_nbr_start.data(), m_pair_xi.data(), m_nbr_count.data()});
     const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_old_start.data(), m_n);
     if (m_old_list.size() < total) {
-      const std::size_t size = total + total / 4 + 64;
+      const std::size_t size = core::withSpare(total);
       m_old_list.resize(size, 0);
       m_old_xi.resize(size, core::zero3<T>());
     }
@@ -907,8 +908,8 @@ class DemSolver final : public DemEngine {
     backend::parallelFor(Space{}, m_n, build);
     const std::size_t total = backend::exclusiveScan(Space{}, m_nbr_count.data(), m_nbr_start.data(), m_n);
     if (m_nbr_list.size() < total) {
-      // Grows with 25% to spare, so a bed that packs a little denser does not reallocate.
-      const std::size_t size = total + total / 4 + 64;
+      // Grows with room to spare, so a bed that packs a little denser does not reallocate.
+      const std::size_t size = core::withSpare(total);
       m_nbr_list.resize(size, 0);
       m_pair_xi.resize(size, core::zero3<T>());
     }

@@ -20,6 +20,7 @@
 
 #include "dem/contact_batch.hpp"
 #include "millsim/backend/omp.hpp"
+#include "millsim/core/capacity.hpp"
 #include "millsim/core/vec3.hpp"
 
 namespace millsim::dem {
@@ -178,10 +179,9 @@ class PartnerScatter<backend::Omp, T> {
       const std::size_t rows = static_cast<std::size_t>(std::max(0, highest[static_cast<std::size_t>(k)] - hi + 1));
       m_offset[static_cast<std::size_t>(k) + 1] = m_offset[static_cast<std::size_t>(k)] + rows;
     }
-    // With a quarter to spare, as the neighbour list: a bed that packs a little tighter at the
-    // next rebuild then finds its rows already there.
+    // With room to spare, as the neighbour list (core::withSpare).
     const std::size_t need = m_offset.back();
-    if (m_rows.size() < need) m_rows.assign(need + need / 4 + 64, PartnerRow<T>{});
+    if (m_rows.size() < need) m_rows.assign(core::withSpare(need), PartnerRow<T>{});
     m_windows_of = threads;
     m_windows_n = n;
   }

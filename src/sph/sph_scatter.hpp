@@ -17,6 +17,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "millsim/core/capacity.hpp"
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -157,10 +159,10 @@ class SphPairScatter {
       std::vector<PairSums<T>>& rows = m_rows[static_cast<std::size_t>(k)];
       const std::size_t need =
           static_cast<std::size_t>((c.fluid_hi - c.hi) + (c.own_lo - c.wall_lo) + (c.wall_hi - c.own_hi));
-      // Grows only, with a quarter to spare as the neighbour lists do: the windows change at
-      // every pass as the fluid moves, and an exact fit would allocate each time one grew by a
-      // row. Kept zero between passes.
-      if (rows.size() < need) rows.resize(need + need / 4 + 64, PairSums<T>{});
+      // Grows only, with room to spare as the neighbour lists do (core::withSpare): the windows
+      // change at every pass as the fluid moves, and an exact fit would allocate each time one
+      // grew by a row. Kept zero between passes.
+      if (rows.size() < need) rows.resize(core::withSpare(need), PairSums<T>{});
     }
   }
 
