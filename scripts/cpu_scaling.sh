@@ -17,7 +17,7 @@ rate() {  # benchmark filter, threads -> particle_steps_per_s
 }
 ls1() {  # threads -> particle-steps/s of 300 LS1 steps (at k_n = 1e5 N/m, dt 0.62 us, as measured before 2026-12-07)
   "$cli" run "$root/cases/stirred_mill_ls1.xml" --out "$out/ls1_$1" -q --threads "$1" --set time.end=1.85e-4 \
-    --set dem.linear_stiffness=1e5 >/dev/null
+    --set dem.linear_stiffness=1e5 --set dem.skin=0.2 >/dev/null
   python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); print("%.4g" % (j["steps"] * j["stirred"]["beads"] / j["wall_time_s"]))' \
     "$out/ls1_$1/summary.json"
 }

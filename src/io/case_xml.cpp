@@ -591,6 +591,9 @@ Schema buildSchema() {
       number("dem", "linear_stiffness", "N/m", above(0),
              [](Scene& sc) -> double& { return sc.dem.linear_stiffness; },
              "k_n of the linear law (k_t = 2/7 k_n); see docs/cases.md for the stirred mill's choice."),
+      number("dem", "skin", "r_min", range('(', 0, 20, ']'), [](Scene& sc) -> double& { return sc.dem.skin; },
+             "Verlet skin of the neighbour list, in smallest radii (DCDEM balls: in element spacings); the list is "
+             "rebuilt when a particle has moved half of it. See docs/performance.md for the stirred mill's choice."),
 
       number("stirrer", "chamber_diameter", "m", above(0),
              [](Scene& sc) -> double& { return sc.stirrer.chamber_diameter; }, "Inner diameter of the chamber."),

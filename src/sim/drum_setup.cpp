@@ -43,10 +43,10 @@ dem::DemSetup drumDemSetup(const scene::Scene& scene, const ChargeSetup& charge)
   setup.tanh_smoothing = scene.dem.friction_smoothing == "tanh";
   setup.dualsphysics_tangential = scene.dem.tangential == "dualsphysics";
   setup.gravity = scene.gravity;
-  setup.skin = 0.2 * charge.min_radius;
+  setup.skin = scene.dem.skin * charge.min_radius;
   setup.max_radius = charge.max_radius;
   if (scene.dem.representation == "dcdem") {
-    setup.skin = 0.2 * scene.dem.element_spacing;
+    setup.skin = scene.dem.skin * scene.dem.element_spacing;
     setup.max_radius = 0.5 * scene.dem.element_spacing;
   }
   const double R = 0.5 * scene.drum.diameter, margin = 2 * charge.max_radius;

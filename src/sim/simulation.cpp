@@ -333,6 +333,12 @@ void Simulation::Impl::restoreCheckpoint() {
 }
 
 Simulation::Simulation(const scene::Scene& scene, const RunOptions& options) {
+  // Checkpoints are written and read by the drum runs (dry and wet) only: a fluid-only or stirred
+  // run would start over from t = 0 and overwrite the outputs it was meant to continue.
+  if (!options.restart.empty() && (scene.has_stirrer || (scene.effect_sph && !scene.effect_dem)))
+    throw core::InputError(options.restart + ": --restart continues drum runs (balls, wet mill) only; " +
+                           scene.source + " is a " + (scene.has_stirrer ? "stirred mill" : "fluid-only case") +
+                           ", which writes no checkpoint: run it from the start");
   // Only the engines the effects call for exist: a fluid-only case has no DEM arrays at all.
   if (scene.effect_sph && !scene.effect_dem)
     m_sph = std::make_unique<SphRun>(scene, options);

@@ -227,7 +227,7 @@ struct StirredRun::Impl {
     setup.lubrication_outer = scene.lubrication.outer;
     setup.collision_stats = collisionStats();
     setup.gravity = scene.gravity;
-    setup.skin = 0.2 * r_min;
+    setup.skin = scene.dem.skin * r_min;
     setup.max_radius = r_max;
     const double R = 0.5 * scene.stirrer.chamber_diameter, margin = 4 * r_max;
     setup.domain_lo = {-R - margin, -R - margin, -margin};

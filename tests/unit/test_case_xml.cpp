@@ -344,6 +344,9 @@ TEST(CaseXmlErrors, BoundsWithBothEnds) {
   EXPECT_EQ(textFailure(small("<dem/>", "<dem restitution=\"0\"/>")).what,
             "t.xml:3: <dem restitution=\"0\">: must be in (0, 1]");
   EXPECT_NO_THROW(loadCaseText(small("<dem/>", "<dem restitution=\"1\" poisson=\"0\"/>"), "t.xml"));
+  // A zero skin would rebuild the neighbour list every step and miss pairs that close in it.
+  EXPECT_EQ(textFailure(small("<dem/>", "<dem skin=\"0\"/>")).what,
+            "t.xml:3: <dem skin=\"0\">: must be in (0, 20] (r_min)");
 }
 
 TEST(CaseXmlErrors, AttributeErrorsUseTheAttributesOwnLine) {
@@ -556,7 +559,7 @@ TEST(CaseXmlDescribe, ListsEveryAttributeOfTheSchema) {
       "tank.x_min", "tank.y_min", "tank.z_min", "tank.x_max", "tank.y_max", "tank.z_max", "tank.closed",
       "tank.rotation_rpm", "tank.spin_up",
       "slurry.filling",
-      "dem.law", "dem.linear_stiffness",
+      "dem.law", "dem.linear_stiffness", "dem.skin",
       "stirrer.chamber_diameter", "stirrer.chamber_length", "stirrer.shaft_diameter", "stirrer.disk_count",
       "stirrer.disk_diameter", "stirrer.disk_thickness", "stirrer.hole_count", "stirrer.hole_diameter",
       "stirrer.hole_ring_diameter", "stirrer.speeds_rpm", "stirrer.hold", "stirrer.ramp", "stirrer.average_from",

@@ -95,6 +95,20 @@ TEST(CliBadInput, ImpossibleFilling) {
   EXPECT_NE(r.output.find("do not fit"), std::string::npos) << r.output;
 }
 
+// Only drum runs write checkpoints; a fluid-only or stirred run given --restart used to start over
+// silently and overwrite the outputs it was meant to continue.
+TEST(CliBadInput, RestartOfARunWithoutCheckpoints) {
+  const auto dir = tempDir("restart_unsupported");
+  const std::string checkpoint = (dir / "checkpoint.h5").string();
+  std::ofstream(checkpoint) << "not read";
+  for (const char* name : {"hydrostatic_2d", "stirred_mill_ls1_small"}) {
+    const std::string c = sourceDir() + "/cases/" + name + ".xml", out = (dir / name).string();
+    const Result r = millsim::testing::runShell(cli() + " run " + c + " --out " + out + " --restart " + checkpoint);
+    expectInputError(r, checkpoint + ": --restart continues drum runs (balls, wet mill) only; " + c);
+    EXPECT_FALSE(fs::exists(out + "/series.csv")) << name;
+  }
+}
+
 TEST(CliRun, WritesOutputsAndRestarts) {
   const auto dir = tempDir("run");
   const std::string out = (dir / "out").string();

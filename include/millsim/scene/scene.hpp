@@ -38,6 +38,9 @@ struct DemParams {
   double impact_velocity = 2.0;   // m/s, reference speed for the contact time in dt = t_c / N
   std::string law = "hertz";      // "hertz" | "linear" (seed 004's linear spring-dashpot)
   double linear_stiffness = 1e5;  // N/m, k_n of the linear law
+  // Verlet skin of the neighbour list in smallest radii (DCDEM: in element spacings): the list is
+  // rebuilt when a particle has moved half of it. Larger: fewer rebuilds, longer lists.
+  double skin = 0.2;
   // Balls as analytic spheres, or as the paper's DCDEM bodies: particles at element_spacing
   // filling each ball, contacts element on element (src/dem/rigid_body.hpp).
   std::string representation = "sphere";  // "sphere" | "dcdem"
