@@ -153,6 +153,13 @@ class DemEngine {
   virtual std::vector<DemSums> sceneSums(const std::vector<bool>& wanted = {}) const = 0;
   // Per bead, in host numbering: tallies (collision_stats.hpp).
   virtual void collisionTallies(std::vector<CollisionTally>& out) const = 0;
+  // Stirred mill checkpoints: the per-bead accounts a stirred step accumulates, in host numbering
+  // (tallies empty without collision statistics, lubrication empty without lubrication), and
+  // their restore, called after setState and before initialize (a vector of another size: that
+  // account starts from zero).
+  virtual void stirredAccounts(std::vector<CollisionTally>& tallies, std::vector<double>& lubrication) const = 0;
+  virtual void setStirredAccounts(const std::vector<CollisionTally>& tallies,
+                                  const std::vector<double>& lubrication) = 0;
 };
 
 // The balls as the fluid and the observers see them: one entry per DCDEM body (its centre,

@@ -19,6 +19,7 @@
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/vision/front_view_angle.hpp"
 #include "sim/charge_setup.hpp"
+#include "sim/dem_checkpoint.hpp"
 #include "sim/drum_motion.hpp"
 #include "sim/drum_setup.hpp"
 #include "sim/engine_factory.hpp"
@@ -208,18 +209,7 @@ void Simulation::Impl::run() {
 
 namespace {
 
-// The real arrays of a checkpoint, by dataset name: the DEM state and the DCDEM bodies.
-std::vector<std::pair<const char*, std::vector<double>*>> stateArrays(dem::DemHostState& s) {
-  return {{"pos", &s.pos},        {"vel", &s.vel},         {"omega", &s.omega},     {"radius", &s.radius},
-          {"mass", &s.mass},      {"inertia", &s.inertia}, {"hist_xi", &s.hist_xi}, {"dissipated", &s.dissipated},
-          {"work_in", &s.work_in}};
-}
-
-// Arrays a checkpoint has only since they were added: a missing one restarts from zero.
-std::vector<std::pair<const char*, std::vector<double>*>> optionalStateArrays(dem::DemHostState& s) {
-  return {{"work_external", &s.work_external}};
-}
-
+// The real arrays of a checkpoint's DCDEM bodies, by dataset name (the particles': dem_checkpoint.cpp).
 std::vector<std::pair<const char*, std::vector<double>*>> bodyArrays(dem::DemBodies& b) {
   return {{"body_pos", &b.pos},       {"body_vel", &b.vel},      {"body_ang_mom", &b.ang_mom},
           {"body_quat", &b.quat},     {"body_mass", &b.mass},    {"body_inertia", &b.inertia},
@@ -239,12 +229,7 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
   cp.step = step;
   dem::DemHostState s;
   engine->getState(s);
-  for (const auto& [key, v] : stateArrays(s)) cp.reals[key] = *v;
-  for (const auto& [key, v] : optionalStateArrays(s))
-    if (!v->empty()) cp.reals[key] = *v;
-  cp.reals["force"] = s.force;
-  cp.reals["torque"] = s.torque;
-  cp.ints["hist_id"] = s.hist_id;
+  putDemState(s, cp);
   if (dcdem) {
     dem::DemBodies b;
     engine->getBodies(b);
@@ -273,22 +258,14 @@ void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
 
 void Simulation::Impl::restoreCheckpoint() {
   const io::CheckpointData cp = io::readCheckpoint(options.restart);
-  dem::DemHostState s;
+  if (cp.scalars.count("stirred"))
+    throw core::InputError(options.restart + ": a stirred mill's checkpoint; " + scene.source + " is a drum");
+  const dem::DemHostState s = takeDemState(cp, options.restart);
   auto real = [&](const char* k) {
     auto it = cp.reals.find(k);
     if (it == cp.reals.end()) throw core::InputError(options.restart + ": checkpoint lacks '" + k + "'");
     return it->second;
   };
-  for (const auto& [key, v] : stateArrays(s)) *v = real(key);
-  for (const auto& [key, v] : optionalStateArrays(s))
-    if (cp.reals.count(key)) *v = cp.reals.at(key);
-  // The forces of the checkpointed step (DemHostState::force); a checkpoint written before
-  // they were kept has none, and the restart evaluates them (with v(t): close, not exact).
-  if (cp.reals.count("force") && cp.reals.count("torque")) {
-    s.force = cp.reals.at("force");
-    s.torque = cp.reals.at("torque");
-  }
-  s.hist_id = cp.ints.at("hist_id");
   if (!dcdem && cp.ints.count("body_start"))
     throw core::InputError(options.restart +
                            ": checkpoint holds DCDEM bodies, the case asks for spheres "
@@ -333,12 +310,11 @@ void Simulation::Impl::restoreCheckpoint() {
 }
 
 Simulation::Simulation(const scene::Scene& scene, const RunOptions& options) {
-  // Checkpoints are written and read by the drum runs (dry and wet) only: a fluid-only or stirred
-  // run would start over from t = 0 and overwrite the outputs it was meant to continue.
-  if (!options.restart.empty() && (scene.has_stirrer || (scene.effect_sph && !scene.effect_dem)))
-    throw core::InputError(options.restart + ": --restart continues drum runs (balls, wet mill) only; " +
-                           scene.source + " is a " + (scene.has_stirrer ? "stirred mill" : "fluid-only case") +
-                           ", which writes no checkpoint: run it from the start");
+  // Checkpoints are written and read by the drum runs (dry and wet) and the stirred mill: a
+  // fluid-only run would start over from t = 0 and overwrite the outputs it was meant to continue.
+  if (!options.restart.empty() && scene.effect_sph && !scene.effect_dem)
+    throw core::InputError(options.restart + ": --restart continues drum and stirred-mill runs only; " + scene.source +
+                           " is a fluid-only case, which writes no checkpoint: run it from the start");
   // Only the engines the effects call for exist: a fluid-only case has no DEM arrays at all.
   if (scene.effect_sph && !scene.effect_dem)
     m_sph = std::make_unique<SphRun>(scene, options);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -24,6 +25,7 @@
 #include "millsim/core/error.hpp"
 #include "millsim/io/fields_writer.hpp"
 #include "millsim/io/plot_png.hpp"
+#include "sim/dem_checkpoint.hpp"
 #include "sim/drum_setup.hpp"
 #include "sim/engine_factory.hpp"
 #include "sim/run_outputs.hpp"
@@ -152,6 +154,16 @@ struct StirredRun::Impl {
   std::vector<dem::CollisionTally> last_tally;
   bool have_tally = false;
   int field_samples = 0;
+  // The loop's bookkeeping between steps: a checkpoint carries it with the beads.
+  struct Ledger {
+    std::size_t level = 0;  // the level whose window is open or comes next
+    bool level_open = false, level_mid_taken = false;
+    double level_work0 = 0, level_work_mid = 0;  // stirrer work when the window opened, at its middle
+    double next_series = 0, next_sample = 0, next_fields = 0, next_checkpoint = 0;
+    double stats_t0 = -1;  // first collision sample
+    dem::DemSums e0;       // the energy budget's baseline (t = 0)
+    double lubrication0 = 0;
+  } ledger;
 
   Impl(const scene::Scene& s, const RunOptions& o) : scene(s), options(o) {
     if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -162,7 +174,7 @@ struct StirredRun::Impl {
     dt = chooseTimeStep();
     engine = makeEngine();
     engine->setState(beads);
-    engine->initialize(stirrerStateOf(scene, 0.0, 0.0));
+    planLevels();
     gx = scene.collisions.grid_radial;
     gz = scene.collisions.grid_axial;
     const std::size_t cells = static_cast<std::size_t>(gx) * gx * gz;
@@ -177,6 +189,27 @@ struct StirredRun::Impl {
         rs.name = std::string(radial[r]) + axial[a];
         regions.push_back(rs);
       }
+    ledger.next_sample = scene.collisions.start;
+    if (!options.restart.empty()) restoreCheckpoint();
+    engine->initialize(stirrerStateOf(scene, omegaAt(t), phi));
+    if (options.restart.empty()) {
+      ledger.e0 = engine->sums();
+      ledger.lubrication0 = engine->stirredSums().lubrication_dissipated;
+      ledger.next_checkpoint = scene.output.checkpoint_every > 0 ? scene.output.checkpoint_every : 1e300;
+    }
+  }
+
+  void planLevels() {
+    for (std::size_t k = 0; k < rpm.size(); ++k) {
+      StirredLevel lv;
+      lv.rpm = rpm[k];
+      lv.t_begin = k * levelLength();
+      lv.t_average = lv.t_begin + scene.stirrer.ramp + scene.stirrer.average_from * scene.stirrer.hold;
+      lv.t_end = lv.t_begin + levelLength();
+      lv.t_mid = 0.5 * (lv.t_average + lv.t_end);
+      lv.revolutions_held = lv.rpm / 60 * scene.stirrer.hold;
+      levels.push_back(lv);
+    }
   }
 
   double levelLength() const { return scene.stirrer.ramp + scene.stirrer.hold; }
@@ -295,6 +328,8 @@ struct StirredRun::Impl {
   }
 
   void run();
+  void writeCheckpoint(const fs::path& path) const;
+  void restoreCheckpoint();
   void writeOutputs(const fs::path& out, double stats_time) const;
   void writeVelocityField(const fs::path& out) const;
   void writeCollisionOutputs(const fs::path& out, double stats_time) const;
@@ -312,6 +347,7 @@ void StirredRun::Impl::run() {
   summary.particles = beads.size();
   summary.charge_mass_kg = std::accumulate(beads.mass.begin(), beads.mass.end(), 0.0);
 
+  const bool restart = !options.restart.empty();
   std::unique_ptr<SeriesWriter> series;
   if (options.write_outputs)
     series = std::make_unique<SeriesWriter>(
@@ -320,42 +356,26 @@ void StirredRun::Impl::run() {
                                  "potential_J", "elastic_J", "work_in_J", "contact_dissipated_J",
                                  "lubrication_dissipated_J", "energy_residual_J", "max_speed_m_s", "contacts_per_bead",
                                  "wall_time_s"},
-        false);
+        restart, t + 0.5 * dt);  // a restart keeps the rows up to its checkpoint
   // Bead snapshots (ParaView); also the last good state a failed run leaves on disk.
   std::unique_ptr<io::FieldsWriter> fields;
-  if (options.write_outputs && scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, false);
-  double next_fields = 0;
+  if (options.write_outputs && scene.output.fields_every > 0) fields = std::make_unique<io::FieldsWriter>(out, restart);
   auto writeFields = [&]() {
     dem::DemHostState s;
     engine->getState(s);
     fields->write(demFieldFrame(t, step, s));
   };
   const double t_end = endTime();
-  levels.clear();
-  for (std::size_t k = 0; k < rpm.size(); ++k) {
-    StirredLevel lv;
-    lv.rpm = rpm[k];
-    lv.t_begin = k * levelLength();
-    lv.t_average = lv.t_begin + scene.stirrer.ramp + scene.stirrer.average_from * scene.stirrer.hold;
-    lv.t_end = lv.t_begin + levelLength();
-    lv.t_mid = 0.5 * (lv.t_average + lv.t_end);
-    lv.revolutions_held = lv.rpm / 60 * scene.stirrer.hold;
-    levels.push_back(lv);
-  }
-  const dem::DemSums e0 = engine->sums();
-  const dem::StirredSums s0 = engine->stirredSums();
-  std::size_t level = 0;
-  double level_work0 = 0, level_work_mid = 0;
-  bool level_open = false, level_mid_taken = false;
-  double next_series = 0, next_sample = scene.collisions.start;
-  double stats_t0 = -1;
+  const dem::DemSums& e0 = ledger.e0;
+  Ledger& g = ledger;
+  std::size_t& level = g.level;
   auto book = [&](const dem::DemSums& now, const dem::StirredSums& st) {
     energy.work_in = now.work_in - e0.work_in;
     energy.d_kinetic = now.kinetic - e0.kinetic;
     energy.d_potential = now.potential - e0.potential;
     energy.d_elastic = now.elastic - e0.elastic;
     energy.contact_dissipated = now.dissipated - e0.dissipated;
-    energy.lubrication_dissipated = st.lubrication_dissipated - s0.lubrication_dissipated;
+    energy.lubrication_dissipated = st.lubrication_dissipated - g.lubrication0;
     energy.residual = energy.work_in - (energy.d_kinetic + energy.d_potential + energy.d_elastic +
                                         energy.contact_dissipated + energy.lubrication_dissipated);
   };
@@ -364,29 +384,29 @@ void StirredRun::Impl::run() {
   try {
     while (true) {
       // Level windows: open at t_average, close at t_end with the work done meanwhile.
-      if (level < levels.size() && !level_open && t >= levels[level].t_average - 0.5 * dt) {
-        level_work0 = engine->sums().work_in;
+      if (level < levels.size() && !g.level_open && t >= levels[level].t_average - 0.5 * dt) {
+        g.level_work0 = engine->sums().work_in;
         levels[level].t_average = t;
-        level_open = true;
-        level_mid_taken = false;
+        g.level_open = true;
+        g.level_mid_taken = false;
       }
-      if (level_open && !level_mid_taken && t >= levels[level].t_mid - 0.5 * dt) {
-        level_work_mid = engine->sums().work_in;
+      if (g.level_open && !g.level_mid_taken && t >= levels[level].t_mid - 0.5 * dt) {
+        g.level_work_mid = engine->sums().work_in;
         levels[level].t_mid = t;
-        level_mid_taken = true;
+        g.level_mid_taken = true;
       }
-      const bool closing = level_open && t >= levels[level].t_end - 0.5 * dt;
-      if (t >= next_series - 1e-9 * dt || closing) {
+      const bool closing = g.level_open && t >= levels[level].t_end - 0.5 * dt;
+      if (t >= g.next_series - 1e-9 * dt || closing) {
         const dem::DemSums now = engine->sums();
         const dem::StirredSums st = engine->stirredSums();
         book(now, st);
         const double omega = omegaAt(t);
-        if (level_open && !closing) {
+        if (g.level_open && !closing) {
           levels[level].stirrer_torque_Nm += st.stirrer_torque;
           levels[level].outer_torque_Nm += st.outer_torque;
           ++levels[level].samples;
         }
-        if (series && t >= next_series - 1e-9 * dt) {
+        if (series && t >= g.next_series - 1e-9 * dt) {
           dem::DemHostState s;
           engine->getState(s);
           checkEscaped(s);
@@ -395,38 +415,42 @@ void StirredRun::Impl::run() {
                        energy.lubrication_dissipated, energy.residual, now.max_speed,
                        2.0 * now.pair_contacts / double(summary.particles),
                        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count()});
-          next_series += scene.output.series_every;
-        } else if (!series && t >= next_series - 1e-9 * dt) {
+          g.next_series += scene.output.series_every;
+        } else if (!series && t >= g.next_series - 1e-9 * dt) {
           dem::DemHostState s;
           engine->getState(s);
           checkEscaped(s);
-          next_series += scene.output.series_every;
+          g.next_series += scene.output.series_every;
         }
         if (closing) {
           StirredLevel& lv = levels[level];
           lv.t_end = t;
-          lv.power_W = (now.work_in - level_work0) / std::max(t - lv.t_average, 1e-300);
+          lv.power_W = (now.work_in - g.level_work0) / std::max(t - lv.t_average, 1e-300);
           lv.net_power_W = lv.power_W - scene.stirrer.idle_power_W;
-          lv.power_first_half_W = (level_work_mid - level_work0) / std::max(lv.t_mid - lv.t_average, 1e-300);
-          lv.power_second_half_W = (now.work_in - level_work_mid) / std::max(t - lv.t_mid, 1e-300);
-          lv.steady = std::abs(lv.power_second_half_W - lv.power_first_half_W) <=
-                      kSteadyPowerChange * std::abs(lv.power_W);
+          lv.power_first_half_W = (g.level_work_mid - g.level_work0) / std::max(lv.t_mid - lv.t_average, 1e-300);
+          lv.power_second_half_W = (now.work_in - g.level_work_mid) / std::max(t - lv.t_mid, 1e-300);
+          lv.steady =
+              std::abs(lv.power_second_half_W - lv.power_first_half_W) <= kSteadyPowerChange * std::abs(lv.power_W);
           if (lv.samples > 0) {
             lv.stirrer_torque_Nm /= lv.samples;
             lv.outer_torque_Nm /= lv.samples;
           }
-          level_open = false;
+          g.level_open = false;
           ++level;
         }
       }
-      if (collisionStats() && t >= next_sample - 0.5 * dt && t >= scene.collisions.start - 0.5 * dt) {
-        if (stats_t0 < 0) stats_t0 = t;
+      if (collisionStats() && t >= g.next_sample - 0.5 * dt && t >= scene.collisions.start - 0.5 * dt) {
+        if (g.stats_t0 < 0) g.stats_t0 = t;
         sampleCollisions();
-        next_sample += scene.collisions.sample_every;
+        g.next_sample += scene.collisions.sample_every;
       }
-      if (fields && t >= next_fields - 1e-9 * dt) {
+      if (fields && t >= g.next_fields - 1e-9 * dt) {
         writeFields();
-        next_fields += scene.output.fields_every;
+        g.next_fields += scene.output.fields_every;
+      }
+      if (options.write_outputs && t >= g.next_checkpoint - 0.5 * dt) {
+        writeCheckpoint(out / "checkpoint.h5");
+        g.next_checkpoint += scene.output.checkpoint_every;
       }
       if (t >= t_end - 0.5 * dt) break;
       phi += omegaAt(t + dt) * dt;
@@ -444,6 +468,8 @@ void StirredRun::Impl::run() {
   }
   progress.finish();
   markRunEnd(summary, "ok", t, step, wall0);
+  // Before the open level is dropped below: a restart from here goes on measuring it.
+  if (options.write_outputs) writeCheckpoint(out / "checkpoint.h5");
   // Only the levels whose averaging window closed: a run ended by time.end inside the program
   // would otherwise report the levels it never reached (and a half-open one) as 0 W, in
   // power.csv, the plot and summary.json's power.
@@ -460,7 +486,177 @@ void StirredRun::Impl::run() {
     summary.omega_rad_s = levels.back().rpm * 2 * kPi / 60;
     summary.torque_Nm = summary.omega_rad_s > 0 ? summary.power_W / summary.omega_rad_s : 0;
   }
-  if (options.write_outputs) writeOutputs(out, stats_t0 >= 0 ? t - stats_t0 : 0.0);
+  if (options.write_outputs) writeOutputs(out, g.stats_t0 >= 0 ? t - g.stats_t0 : 0.0);
+}
+
+namespace {
+
+// Per-bead tallies as a checkpoint's real array (CollisionTally is 11 doubles).
+static_assert(sizeof(dem::CollisionTally) == 11 * sizeof(double), "CollisionTally holds 11 doubles");
+constexpr std::size_t kTallyReals = 11;
+
+std::vector<double> flatTallies(const std::vector<dem::CollisionTally>& t) {
+  std::vector<double> v(t.size() * kTallyReals);
+  if (!t.empty()) std::memcpy(v.data(), t.data(), v.size() * sizeof(double));
+  return v;
+}
+
+std::vector<dem::CollisionTally> tallies(const std::vector<double>& v) {
+  std::vector<dem::CollisionTally> t(v.size() / kTallyReals);
+  if (!t.empty()) std::memcpy(t.data(), v.data(), t.size() * sizeof(dem::CollisionTally));
+  return t;
+}
+
+// The measured fields of each speed level, by dataset name.
+std::vector<std::pair<const char*, double StirredLevel::*>> levelFields() {
+  return {{"level_t_average", &StirredLevel::t_average},
+          {"level_t_mid", &StirredLevel::t_mid},
+          {"level_t_end", &StirredLevel::t_end},
+          {"level_power", &StirredLevel::power_W},
+          {"level_net_power", &StirredLevel::net_power_W},
+          {"level_stirrer_torque", &StirredLevel::stirrer_torque_Nm},
+          {"level_outer_torque", &StirredLevel::outer_torque_Nm},
+          {"level_power_first_half", &StirredLevel::power_first_half_W},
+          {"level_power_second_half", &StirredLevel::power_second_half_W}};
+}
+
+constexpr std::size_t kRegionReals = 2 + 2 * dem::kModeCount;
+
+}  // namespace
+
+void StirredRun::Impl::writeCheckpoint(const fs::path& path) const {
+  io::CheckpointData cp;
+  cp.time = t;
+  cp.step = step;
+  dem::DemHostState s;
+  engine->getState(s);
+  putDemState(s, cp);
+  std::vector<dem::CollisionTally> tally;
+  std::vector<double> lubrication;
+  engine->stirredAccounts(tally, lubrication);
+  if (!tally.empty()) cp.reals["stirred_tally"] = flatTallies(tally);
+  if (!lubrication.empty()) cp.reals["stirred_lubrication"] = lubrication;
+  if (have_tally) cp.reals["stirred_last_tally"] = flatTallies(last_tally);
+  const Ledger& g = ledger;
+  cp.scalars = {{"stirred", 1.0},
+                {"phi", phi},
+                {"dt", dt},
+                {"level", double(g.level)},
+                {"level_open", g.level_open ? 1.0 : 0.0},
+                {"level_mid_taken", g.level_mid_taken ? 1.0 : 0.0},
+                {"level_work0", g.level_work0},
+                {"level_work_mid", g.level_work_mid},
+                {"next_series", g.next_series},
+                {"next_sample", g.next_sample},
+                {"next_fields", g.next_fields},
+                {"next_checkpoint", g.next_checkpoint},
+                {"stats_t0", g.stats_t0},
+                {"e0_kinetic", g.e0.kinetic},
+                {"e0_potential", g.e0.potential},
+                {"e0_elastic", g.e0.elastic},
+                {"e0_work_in", g.e0.work_in},
+                {"e0_dissipated", g.e0.dissipated},
+                {"lubrication0", g.lubrication0},
+                {"field_samples", double(field_samples)}};
+  for (const auto& [key, field] : levelFields()) {
+    std::vector<double>& v = cp.reals[key];
+    for (const StirredLevel& lv : levels) v.push_back(lv.*field);
+  }
+  for (const StirredLevel& lv : levels) {
+    cp.reals["level_samples"].push_back(lv.samples);
+    cp.reals["level_steady"].push_back(lv.steady ? 1.0 : 0.0);
+  }
+  std::vector<double>& rg = cp.reals["regions"];
+  for (const RegionStats& r : regions) {
+    rg.insert(rg.end(), {r.collisions, r.bead_samples});
+    rg.insert(rg.end(), r.dissipated, r.dissipated + dem::kModeCount);
+    rg.insert(rg.end(), r.energy, r.energy + dem::kModeCount);
+  }
+  cp.reals["velocity_sum"] = v_sum;
+  cp.reals["spin_sum"] = w_sum;
+  cp.reals["velocity_count"] = n_sum;
+  io::writeCheckpoint(path, cp);
+}
+
+// Called from the constructor, between setState and initialize. The case may change time.end
+// (to run on) but not what the checkpoint's numbers mean: beads, time step, speed program,
+// sampling grid.
+void StirredRun::Impl::restoreCheckpoint() {
+  const std::string& path = options.restart;
+  const io::CheckpointData cp = io::readCheckpoint(path);
+  auto sc = [&](const char* k) {
+    const auto it = cp.scalars.find(k);
+    if (it == cp.scalars.end()) throw core::InputError(path + ": checkpoint lacks '" + k + "'");
+    return it->second;
+  };
+  auto real = [&](const char* k) -> const std::vector<double>& {
+    const auto it = cp.reals.find(k);
+    if (it == cp.reals.end()) throw core::InputError(path + ": checkpoint lacks '" + k + "'");
+    return it->second;
+  };
+  if (!cp.scalars.count("stirred"))
+    throw core::InputError(path + ": not a stirred mill's checkpoint (written by a drum run?); " + scene.source +
+                           " is a stirred mill");
+  const dem::DemHostState s = takeDemState(cp, path);
+  std::ostringstream bad;
+  if (s.size() != beads.size())
+    bad << "checkpoint holds " << s.size() << " beads, " << scene.source << " places " << beads.size();
+  else if (std::abs(sc("dt") - dt) > 1e-9 * dt)
+    bad << "checkpoint's time step " << sc("dt") << " s differs from the case's " << dt
+        << " s (contact law, bead size or time.dt_divisor changed)";
+  else if (real("level_t_end").size() > levels.size() || real("velocity_sum").size() != v_sum.size())
+    bad << "checkpoint's speed program or sampling grid differs from " << scene.source << "'s";
+  if (!bad.str().empty()) throw core::InputError(path + ": " + bad.str());
+  engine->setState(s);
+  const auto lubrication =
+      cp.reals.count("stirred_lubrication") ? cp.reals.at("stirred_lubrication") : std::vector<double>{};
+  engine->setStirredAccounts(
+      cp.reals.count("stirred_tally") ? tallies(cp.reals.at("stirred_tally")) : std::vector<dem::CollisionTally>{},
+      lubrication);
+  have_tally = cp.reals.count("stirred_last_tally") > 0;
+  if (have_tally) last_tally = tallies(cp.reals.at("stirred_last_tally"));
+  t = cp.time;
+  step = cp.step;
+  phi = sc("phi");
+  Ledger& g = ledger;
+  g.level = static_cast<std::size_t>(sc("level"));
+  g.level_open = sc("level_open") != 0;
+  g.level_mid_taken = sc("level_mid_taken") != 0;
+  g.level_work0 = sc("level_work0");
+  g.level_work_mid = sc("level_work_mid");
+  g.next_series = sc("next_series");
+  g.next_sample = sc("next_sample");
+  g.next_fields = sc("next_fields");
+  g.next_checkpoint = sc("next_checkpoint");
+  g.stats_t0 = sc("stats_t0");
+  g.e0.kinetic = sc("e0_kinetic");
+  g.e0.potential = sc("e0_potential");
+  g.e0.elastic = sc("e0_elastic");
+  g.e0.work_in = sc("e0_work_in");
+  g.e0.dissipated = sc("e0_dissipated");
+  g.lubrication0 = sc("lubrication0");
+  field_samples = static_cast<int>(sc("field_samples"));
+  const std::size_t saved = real("level_t_end").size();
+  for (const auto& [key, field] : levelFields()) {
+    const std::vector<double>& v = real(key);
+    for (std::size_t k = 0; k < saved; ++k) levels[k].*field = v[k];
+  }
+  for (std::size_t k = 0; k < saved; ++k) {
+    levels[k].samples = static_cast<int>(real("level_samples")[k]);
+    levels[k].steady = real("level_steady")[k] != 0;
+  }
+  const std::vector<double>& rg = real("regions");
+  if (rg.size() != regions.size() * kRegionReals) throw core::InputError(path + ": checkpoint's regions are malformed");
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const double* x = &rg[r * kRegionReals];
+    regions[r].collisions = x[0];
+    regions[r].bead_samples = x[1];
+    std::copy(x + 2, x + 2 + dem::kModeCount, regions[r].dissipated);
+    std::copy(x + 2 + dem::kModeCount, x + kRegionReals, regions[r].energy);
+  }
+  v_sum = real("velocity_sum");
+  w_sum = real("spin_sum");
+  n_sum = real("velocity_count");
 }
 
 void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) const {
