@@ -26,13 +26,19 @@ std::vector<std::pair<const char*, V*>> optionalStateArrays(S& s) {
 
 }  // namespace
 
-void putDemState(const dem::DemHostState& s, io::CheckpointData& cp) {
+io::CheckpointData demCheckpoint(const dem::DemEngine& engine, double t, std::int64_t step) {
+  io::CheckpointData cp;
+  cp.time = t;
+  cp.step = step;
+  dem::DemHostState s;
+  engine.getState(s);
   for (const auto& [key, v] : stateArrays(s)) cp.reals[key] = *v;
   for (const auto& [key, v] : optionalStateArrays(s))
     if (!v->empty()) cp.reals[key] = *v;
   cp.reals["force"] = s.force;
   cp.reals["torque"] = s.torque;
   cp.ints["hist_id"] = s.hist_id;
+  return cp;
 }
 
 dem::DemHostState takeDemState(const io::CheckpointData& cp, const std::string& path) {

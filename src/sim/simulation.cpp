@@ -224,12 +224,7 @@ std::vector<std::pair<const char*, std::vector<double>*>> optionalBodyArrays(dem
 }  // namespace
 
 void Simulation::Impl::writeCheckpoint(const fs::path& path) const {
-  io::CheckpointData cp;
-  cp.time = t;
-  cp.step = step;
-  dem::DemHostState s;
-  engine->getState(s);
-  putDemState(s, cp);
+  io::CheckpointData cp = demCheckpoint(*engine, t, step);
   if (dcdem) {
     dem::DemBodies b;
     engine->getBodies(b);

@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <sstream>
+#include <type_traits>
 
 #include "dem/contact/damping.hpp"
 #include "dem/contact/linear_spring.hpp"
@@ -522,15 +523,21 @@ std::vector<std::pair<const char*, double StirredLevel::*>> levelFields() {
 
 constexpr std::size_t kRegionReals = 2 + 2 * dem::kModeCount;
 
+// The run's ledger (StirredRun::Impl::Ledger) by checkpoint name, its reals (L const: to read).
+template <class L, class D = std::conditional_t<std::is_const_v<L>, const double, double>>
+std::vector<std::pair<const char*, D*>> ledgerReals(L& g) {
+  return {
+      {"level_work0", &g.level_work0},  {"level_work_mid", &g.level_work_mid}, {"next_series", &g.next_series},
+      {"next_sample", &g.next_sample},  {"next_fields", &g.next_fields},       {"next_checkpoint", &g.next_checkpoint},
+      {"stats_t0", &g.stats_t0},        {"e0_kinetic", &g.e0.kinetic},         {"e0_potential", &g.e0.potential},
+      {"e0_elastic", &g.e0.elastic},    {"e0_work_in", &g.e0.work_in},         {"e0_dissipated", &g.e0.dissipated},
+      {"lubrication0", &g.lubrication0}};
+}
+
 }  // namespace
 
 void StirredRun::Impl::writeCheckpoint(const fs::path& path) const {
-  io::CheckpointData cp;
-  cp.time = t;
-  cp.step = step;
-  dem::DemHostState s;
-  engine->getState(s);
-  putDemState(s, cp);
+  io::CheckpointData cp = demCheckpoint(*engine, t, step);
   std::vector<dem::CollisionTally> tally;
   std::vector<double> lubrication;
   engine->stirredAccounts(tally, lubrication);
@@ -544,20 +551,8 @@ void StirredRun::Impl::writeCheckpoint(const fs::path& path) const {
                 {"level", double(g.level)},
                 {"level_open", g.level_open ? 1.0 : 0.0},
                 {"level_mid_taken", g.level_mid_taken ? 1.0 : 0.0},
-                {"level_work0", g.level_work0},
-                {"level_work_mid", g.level_work_mid},
-                {"next_series", g.next_series},
-                {"next_sample", g.next_sample},
-                {"next_fields", g.next_fields},
-                {"next_checkpoint", g.next_checkpoint},
-                {"stats_t0", g.stats_t0},
-                {"e0_kinetic", g.e0.kinetic},
-                {"e0_potential", g.e0.potential},
-                {"e0_elastic", g.e0.elastic},
-                {"e0_work_in", g.e0.work_in},
-                {"e0_dissipated", g.e0.dissipated},
-                {"lubrication0", g.lubrication0},
                 {"field_samples", double(field_samples)}};
+  for (const auto& [key, v] : ledgerReals(g)) cp.scalars[key] = *v;
   for (const auto& [key, field] : levelFields()) {
     std::vector<double>& v = cp.reals[key];
     for (const StirredLevel& lv : levels) v.push_back(lv.*field);
@@ -622,19 +617,7 @@ void StirredRun::Impl::restoreCheckpoint() {
   g.level = static_cast<std::size_t>(sc("level"));
   g.level_open = sc("level_open") != 0;
   g.level_mid_taken = sc("level_mid_taken") != 0;
-  g.level_work0 = sc("level_work0");
-  g.level_work_mid = sc("level_work_mid");
-  g.next_series = sc("next_series");
-  g.next_sample = sc("next_sample");
-  g.next_fields = sc("next_fields");
-  g.next_checkpoint = sc("next_checkpoint");
-  g.stats_t0 = sc("stats_t0");
-  g.e0.kinetic = sc("e0_kinetic");
-  g.e0.potential = sc("e0_potential");
-  g.e0.elastic = sc("e0_elastic");
-  g.e0.work_in = sc("e0_work_in");
-  g.e0.dissipated = sc("e0_dissipated");
-  g.lubrication0 = sc("lubrication0");
+  for (const auto& [key, v] : ledgerReals(g)) *v = sc(key);
   field_samples = static_cast<int>(sc("field_samples"));
   const std::size_t saved = real("level_t_end").size();
   for (const auto& [key, field] : levelFields()) {
