@@ -386,7 +386,9 @@ void StirredRun::Impl::run() {
     while (true) {
       // Level windows: open at t_average, close at t_end with the work done meanwhile.
       if (level < levels.size() && !g.level_open && t >= levels[level].t_average - 0.5 * dt) {
-        g.level_work0 = engine->sums().work_in;
+        const dem::DemSums open = engine->sums();
+        g.level_work0 = open.work_in;
+        levels[level].kinetic_open_J = open.kinetic;
         levels[level].t_average = t;
         g.level_open = true;
         g.level_mid_taken = false;
@@ -426,6 +428,7 @@ void StirredRun::Impl::run() {
         if (closing) {
           StirredLevel& lv = levels[level];
           lv.t_end = t;
+          lv.kinetic_close_J = now.kinetic;
           lv.power_W = (now.work_in - g.level_work0) / std::max(t - lv.t_average, 1e-300);
           lv.net_power_W = lv.power_W - scene.stirrer.idle_power_W;
           lv.power_first_half_W = (g.level_work_mid - g.level_work0) / std::max(lv.t_mid - lv.t_average, 1e-300);
@@ -518,7 +521,9 @@ std::vector<std::pair<const char*, double StirredLevel::*>> levelFields() {
           {"level_stirrer_torque", &StirredLevel::stirrer_torque_Nm},
           {"level_outer_torque", &StirredLevel::outer_torque_Nm},
           {"level_power_first_half", &StirredLevel::power_first_half_W},
-          {"level_power_second_half", &StirredLevel::power_second_half_W}};
+          {"level_power_second_half", &StirredLevel::power_second_half_W},
+          {"level_kinetic_open", &StirredLevel::kinetic_open_J},
+          {"level_kinetic_close", &StirredLevel::kinetic_close_J}};
 }
 
 constexpr std::size_t kRegionReals = 2 + 2 * dem::kModeCount;
@@ -647,12 +652,12 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
     std::ofstream f(out / "power.csv");
     f << std::setprecision(9)
       << "rpm,power_W,net_power_W,stirrer_torque_Nm,outer_torque_Nm,window_from_s,window_to_s,samples,"
-         "power_first_half_W,power_second_half_W,steady,revolutions_held\n";
+         "power_first_half_W,power_second_half_W,steady,revolutions_held,kinetic_open_J,kinetic_close_J\n";
     for (const auto& lv : levels)
       f << lv.rpm << "," << lv.power_W << "," << lv.net_power_W << "," << lv.stirrer_torque_Nm << ","
         << lv.outer_torque_Nm << "," << lv.t_average << "," << lv.t_end << "," << lv.samples << ","
         << lv.power_first_half_W << "," << lv.power_second_half_W << "," << (lv.steady ? 1 : 0) << ","
-        << lv.revolutions_held << "\n";
+        << lv.revolutions_held << "," << lv.kinetic_open_J << "," << lv.kinetic_close_J << "\n";
   }
   if (levels.size() > 1) {
     io::PlotSeries p;
@@ -683,7 +688,8 @@ void StirredRun::Impl::writeOutputs(const fs::path& out, double stats_time) cons
                        {"window_mid_s", lv.t_mid},
                        {"power_halves_W", {lv.power_first_half_W, lv.power_second_half_W}},
                        {"steady", lv.steady},
-                       {"revolutions_held", lv.revolutions_held}});
+                       {"revolutions_held", lv.revolutions_held},
+                       {"kinetic_J", {lv.kinetic_open_J, lv.kinetic_close_J}}});
   j["stirred"] = {{"beads", summary.particles},
                   {"neighbour_rebuilds", summary.neighbour_rebuilds},
                   {"coordination_number_end", coordination_end},

@@ -33,6 +33,9 @@ struct StirredLevel {
   double power_first_half_W = 0, power_second_half_W = 0;
   double revolutions_held = 0;  // rpm / 60 x hold
   bool steady = false;
+  // The beads' kinetic energy when the window opened and closed: a bed still spinning up (or
+  // down) changes it while the torque may already hold steady.
+  double kinetic_open_J = 0, kinetic_close_J = 0;
 };
 
 inline constexpr double kSteadyPowerChange = 0.10;

@@ -141,7 +141,12 @@ TEST(StirredMillCase, DryEnergyBudgetPowerAndStatistics) {
                 1e-9 * std::abs(double(l["power_W"])));
     // The CI slice's 10 ms hold is 0.17-0.33 revolutions: far from the 5-10 the seed needed.
     EXPECT_NEAR(double(l["revolutions_held"]), double(l["rpm"]) / 60 * 0.01, 1e-12);
+    EXPECT_GT(double(l["kinetic_J"][0]), 0.0);
   }
+  // The last level closes at the run's last step, and the beads started at rest: its closing
+  // kinetic energy is the budget's change of kinetic energy (the same sum, to rounding).
+  EXPECT_NEAR(double(lv[1]["kinetic_J"][1]), double(st["energy"]["d_kinetic_J"]),
+              1e-12 * double(st["energy"]["d_kinetic_J"]));
   // eta = 0: no lubrication stage, no lubrication bytes.
   EXPECT_EQ(int(r.summary["memory_bytes"].value("dem.lubrication", 0)), 0);
   // Collision statistics: 9 regions (and a header), the four modes, collisions counted. The
