@@ -1,5 +1,6 @@
 // millsim command line: run, validate, info, describe, angle-from-dumps, vision angle|slurry,
-// compare-dam-break, calibrate (calibrate_command.cpp), study accuracy.
+// compare-dam-break, compare-power (compare_power_command.cpp), calibrate (calibrate_command.cpp),
+// sweep (sweep_command.cpp), study accuracy.
 // Exit codes: 0 ok, 2 bad input (file:line message; for vision: bad video path, unreadable
 // codec, no mill outline found), 3 the simulation went unstable (cause printed; last good state
 // kept in OUT/), 1 anything else (e.g. a surface that cannot be measured).
@@ -17,6 +18,8 @@
 #include <sstream>
 
 #include "calibrate_command.hpp"
+#include "compare_power_command.hpp"
+#include "csv_table.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/backend/simd.hpp"
 #include "millsim/core/error.hpp"
@@ -252,33 +255,16 @@ int infoCommand() {
 // them together: Z/a against T = t sqrt(2 g / a).
 int compareDamBreakCommand(const std::vector<std::string>& dirs, double a, double g, const std::string& png,
                            const std::vector<std::string>& labels) {
-  const std::array<std::array<int, 3>, 6> colours{
-      {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {255, 127, 14}, {23, 190, 207}}};
   std::vector<millsim::io::PlotSeries> series;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < dirs.size(); ++k) {
-    const std::string csv = dirs[k] + "/series.csv";
-    std::ifstream in(csv);
-    if (!in) throw InputError(csv + ": cannot open (run the dam-break case with --out " + dirs[k] + " first)");
-    std::string line;
-    std::getline(in, line);
-    std::vector<std::string> names;
-    std::stringstream header(line);
-    for (std::string c; std::getline(header, c, ',');) names.push_back(c);
-    const auto col = [&](const char* name) {
-      const auto it = std::find(names.begin(), names.end(), name);
-      if (it == names.end()) throw InputError(csv + ": no column '" + name + "' (not an SPH run?)");
-      return static_cast<std::size_t>(it - names.begin());
-    };
-    const std::size_t ct = col("time_s"), cx = col("front_x_m");
+    const auto csv =
+        millsim::cli::readCsvTable(dirs[k] + "/series.csv", "run the dam-break case with --out " + dirs[k] + " first");
+    const std::size_t ct = csv.column("time_s", "not an SPH run?"), cx = csv.column("front_x_m", "not an SPH run?");
     std::vector<double> t, x;
-    while (std::getline(in, line)) {
-      std::vector<std::string> cells;
-      std::stringstream row(line);
-      for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-      if (cells.size() <= std::max(ct, cx)) continue;
-      t.push_back(std::stod(cells[ct]));
-      x.push_back(std::stod(cells[cx]));
+    for (std::size_t r = 0; r < csv.cells.size(); ++r) {
+      t.push_back(csv.number(r, ct));
+      x.push_back(csv.number(r, cx));
     }
     const auto c = millsim::sim::compareWithMartinMoyce(t, x, a, g);
     nlohmann::ordered_json j;
@@ -292,7 +278,7 @@ int compareDamBreakCommand(const std::vector<std::string>& dirs, double a, doubl
     out.push_back(j);
     millsim::io::PlotSeries s;
     s.label = k < labels.size() ? labels[k] : dirs[k];
-    s.rgb = colours[k % colours.size()];
+    s.rgb = millsim::io::seriesColour(k);
     const double scale = std::sqrt(2 * g / a);
     for (std::size_t i = 0; i < t.size(); ++i) {
       s.x.push_back(t[i] * scale);
@@ -440,6 +426,8 @@ int runMain(int argc, char** argv) {
   auto* calibrate = millsim::cli::addCalibrateCommand(app, calibrate_args);
   millsim::cli::SweepArgs sweep_args;
   auto* sweep = millsim::cli::addSweepCommand(app, sweep_args);
+  millsim::cli::ComparePowerArgs power_args;
+  auto* compare_power = millsim::cli::addComparePowerCommand(app, power_args);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -467,6 +455,7 @@ int runMain(int argc, char** argv) {
     if (info->parsed()) return infoCommand();
     if (calibrate->parsed()) return millsim::cli::calibrateCommand(calibrate_args);
     if (sweep->parsed()) return millsim::cli::sweepCommand(sweep_args);
+    if (compare_power->parsed()) return millsim::cli::comparePowerCommand(power_args);
     if (dump_angle->parsed()) return angleFromDumpsCommand(dump_args);
     if (vision_angle->parsed() || vision_slurry->parsed()) {
       VisionArgs& a = vision_angle->parsed() ? angle_args : slurry_args;

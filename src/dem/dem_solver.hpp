@@ -453,42 +453,19 @@ class DemSolver final : public DemEngine {
     return s;
   }
 
-  void collisionTallies(std::vector<CollisionTally>& out) const override {
-    std::vector<CollisionTally> t;
-    std::vector<int> id;
-    m_tally.copyToHost(t);
-    m_id.copyToHost(id);
-    out.assign(t.size(), CollisionTally{});
-    for (std::size_t i = 0; i < t.size(); ++i) out[static_cast<std::size_t>(id[i])] = t[i];
-  }
+  void collisionTallies(std::vector<CollisionTally>& out) const override { toHostOrder(m_tally, out); }
 
   void stirredAccounts(std::vector<CollisionTally>& tallies, std::vector<double>& lubrication) const override {
-    collisionTallies(tallies);
+    toHostOrder(m_tally, tallies);
     lubrication.clear();
-    if (m_lub_dissipated.size() != static_cast<std::size_t>(m_n)) return;
-    std::vector<double> v;
-    std::vector<int> id;
-    m_lub_dissipated.copyToHost(v);
-    m_id.copyToHost(id);
-    lubrication.assign(v.size(), 0.0);
-    for (std::size_t i = 0; i < v.size(); ++i) lubrication[static_cast<std::size_t>(id[i])] = v[i];
+    if (m_lub_dissipated.size() == static_cast<std::size_t>(m_n)) toHostOrder(m_lub_dissipated, lubrication);
   }
 
   // allocateStirred (at initialize) keeps arrays that already have one entry per bead.
   void setStirredAccounts(const std::vector<CollisionTally>& tallies, const std::vector<double>& lubrication) override {
     const std::size_t n = static_cast<std::size_t>(m_n);
-    std::vector<int> id;
-    m_id.copyToHost(id);
-    if (m_setup.collision_stats && tallies.size() == n) {
-      std::vector<CollisionTally> now(n);
-      for (std::size_t i = 0; i < n; ++i) now[i] = tallies[static_cast<std::size_t>(id[i])];
-      m_tally.copyFromHost(now);
-    }
-    if (lubricated() && lubrication.size() == n) {
-      std::vector<double> now(n);
-      for (std::size_t i = 0; i < n; ++i) now[i] = lubrication[static_cast<std::size_t>(id[i])];
-      m_lub_dissipated.copyFromHost(now);
-    }
+    if (m_setup.collision_stats && tallies.size() == n) fromHostOrder(tallies, m_tally);
+    if (lubricated() && lubrication.size() == n) fromHostOrder(lubrication, m_lub_dissipated);
   }
 
   void step(const DrumState& walls, double dt_in) override {
@@ -656,6 +633,26 @@ class DemSolver final : public DemEngine {
 
  private:
   static Vec3<T> toVec(const std::array<double, 3>& a) { return {T(a[0]), T(a[1]), T(a[2])}; }
+
+  // A per-particle array in cell order (slot i holds host number id[i]) to host numbering, and
+  // back: what checkpoints and per-bead outputs exchange with the solver.
+  template <class V, class Array>
+  void toHostOrder(const Array& a, std::vector<V>& out) const {
+    std::vector<V> v;
+    std::vector<int> id;
+    a.copyToHost(v);
+    m_id.copyToHost(id);
+    out.assign(v.size(), V{});
+    for (std::size_t i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(id[i])] = v[i];
+  }
+  template <class V, class Array>
+  void fromHostOrder(const std::vector<V>& in, Array& a) const {
+    std::vector<int> id;
+    m_id.copyToHost(id);
+    std::vector<V> now(in.size());
+    for (std::size_t i = 0; i < in.size(); ++i) now[i] = in[static_cast<std::size_t>(id[i])];
+    a.copyFromHost(now);
+  }
 
   // The error a diverged step stops the run with: the first particle that moved more than 3e14 m
   // (or to NaN/Inf) since the last neighbour build, by host number, with its position then and

@@ -7,12 +7,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "millsim/io/case_xml.hpp"
 #include "millsim/sim/simulation.hpp"
@@ -104,6 +106,56 @@ TEST(CliBadInput, RestartOfARunWithoutCheckpoints) {
   const Result r = millsim::testing::runShell(cli() + " run " + c + " --out " + out + " --restart " + checkpoint);
   expectInputError(r, checkpoint + ": --restart continues drum and stirred-mill runs only; " + c);
   EXPECT_FALSE(fs::exists(out + "/series.csv"));
+}
+
+// compare-power reads power.csv as a stirred run writes it (header of stirred_run.cpp).
+static void writePowerCsv(const fs::path& dir, const std::vector<std::array<double, 2>>& levels) {
+  fs::create_directories(dir);
+  std::ofstream f(dir / "power.csv");
+  f << "rpm,power_W,net_power_W,stirrer_torque_Nm,outer_torque_Nm,window_from_s,window_to_s,samples,"
+       "power_first_half_W,power_second_half_W,steady,revolutions_held,kinetic_open_J,kinetic_close_J\n";
+  for (const auto& [rpm, p] : levels)
+    f << rpm << "," << p << "," << p << ",-1,1,0.1,0.2,10," << p << "," << p << ",1,3,1,1\n";
+}
+
+TEST(CliComparePower, MonotoneFlagAndSquaredDifferences) {
+  const auto dir = tempDir("compare_power");
+  writePowerCsv(dir / "a", {{1000, 100}, {2000, 300}, {3000, 600}});
+  writePowerCsv(dir / "b", {{1000, 100}, {2000, 400}, {3000, 350}});
+  std::ofstream(dir / "measured.csv") << "rpm,power_W\n1000,110\n2000,290\n\n4000,900\n";
+  const fs::path png = dir / "power.png";
+  const Result r = millsim::testing::runShell(cli() + " compare-power " + (dir / "a").string() + " " +
+                                              (dir / "b").string() + " --labels soft,stiff --measured " +
+                                              (dir / "measured.csv").string() + " --png " + png.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  ASSERT_EQ(j.size(), 2u);
+  EXPECT_TRUE(j[0]["monotone"].get<bool>());
+  EXPECT_FALSE(j[1]["monotone"].get<bool>());
+  EXPECT_EQ(j[1]["drops_rpm"], nlohmann::json::parse("[[2000.0, 3000.0]]"));
+  // The seed's measure over the speeds both curves have: (100-110)^2 + (300-290)^2 = 200 for a,
+  // (100-110)^2 + (400-290)^2 = 12 200 for b; 4000 rpm has no level.
+  EXPECT_DOUBLE_EQ(j[0]["sse_W2"].get<double>(), 200.0);
+  EXPECT_DOUBLE_EQ(j[0]["rms_W"].get<double>(), 10.0);
+  EXPECT_DOUBLE_EQ(j[1]["sse_W2"].get<double>(), 12200.0);
+  EXPECT_EQ(j[0]["measured_points_matched"].get<int>(), 2);
+  EXPECT_EQ(j[0]["measured_rpm_without_level"], nlohmann::json::parse("[4000.0]"));
+  EXPECT_EQ(j[1]["label"].get<std::string>(), "stiff");
+  ASSERT_TRUE(fs::exists(png));
+  EXPECT_GT(fs::file_size(png), 1000u);
+}
+
+TEST(CliBadInput, ComparePowerMeasuredNotANumber) {
+  const auto dir = tempDir("compare_power_bad");
+  writePowerCsv(dir / "a", {{1000, 100}});
+  const std::string measured = (dir / "measured.csv").string();
+  std::ofstream(measured) << "rpm,power_W\n1000,110\n2000,abc\n";
+  const Result r =
+      millsim::testing::runShell(cli() + " compare-power " + (dir / "a").string() + " --measured " + measured);
+  expectInputError(r, measured + ":3: 'power_W' is not a number: 'abc'");
+  // A directory without power.csv (a drum's output, say) is named too.
+  const Result r2 = millsim::testing::runShell(cli() + " compare-power " + dir.string());
+  expectInputError(r2, (dir / "power.csv").string() + ": cannot open");
 }
 
 TEST(CliRun, WritesOutputsAndRestarts) {

@@ -4,6 +4,7 @@
 // snapshots of a 2D (or projected 3D) SPH run coloured by a value. Drawn with OpenCV, written
 // with libpng (vision/png_io).
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,13 @@ struct PlotSeries {
   bool line = true;      // joined by a line
   bool markers = false;  // a circle at each point
 };
+
+// The k-th colour of the palette several runs in one plot cycle through (matplotlib's first six).
+inline std::array<int, 3> seriesColour(std::size_t k) {
+  static constexpr std::array<std::array<int, 3>, 6> palette{
+      {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {255, 127, 14}, {23, 190, 207}}};
+  return palette[k % palette.size()];
+}
 
 struct PlotAxes {
   std::string title, x_label, y_label;
