@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "csv_table.hpp"
 #include "millsim/backend/info.hpp"
 #include "millsim/calib/calibrator.hpp"
 #include "millsim/calib/simulation_objective.hpp"
@@ -27,26 +28,9 @@ namespace {
 
 using core::InputError;
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(s);
-  while (std::getline(in, item, ',')) {
-    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
-    out.push_back(b == std::string::npos ? "" : item.substr(b, e - b + 1));
-  }
-  return out;
-}
-
 double parseNumber(const std::string& s, const std::string& option) {
-  std::size_t used = 0;
   double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (s.empty() || used != s.size() || !std::isfinite(v)) throw InputError(option + ": '" + s + "' is not a number");
+  if (!toNumber(s, v)) throw InputError(option + ": '" + s + "' is not a number");
   return v;
 }
 

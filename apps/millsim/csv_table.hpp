@@ -1,7 +1,9 @@
 #pragma once
 // A run's CSV output (series.csv, power.csv) or a user's data file read back by column name, for
-// the compare-* commands. Bad input throws core::InputError naming the file, line and column.
+// the compare-* commands, and the comma lists and numbers of command-line options. Bad input
+// throws core::InputError naming the file, line and column.
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -11,6 +13,28 @@
 #include "millsim/core/error.hpp"
 
 namespace millsim::cli {
+
+// Comma-separated items with the blanks around each removed ("a, b,,c" -> a, b, "", c).
+inline std::vector<std::string> splitList(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream in(line);
+  for (std::string c; std::getline(in, c, ',');) {
+    const std::size_t a = c.find_first_not_of(" \t\r"), b = c.find_last_not_of(" \t\r");
+    out.push_back(a == std::string::npos ? std::string() : c.substr(a, b - a + 1));
+  }
+  return out;
+}
+
+// True when all of `s` is one finite number (no trailing text), stored in v.
+inline bool toNumber(const std::string& s, double& v) {
+  std::size_t used = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return !s.empty() && used == s.size() && std::isfinite(v);
+}
 
 struct CsvTable {
   std::string path;
@@ -29,15 +53,8 @@ struct CsvTable {
     const std::string field = col < names.size() ? names[col] : "?";
     if (col >= cells[row].size()) throw core::InputError(path, lines[row], "no value for '" + field + "'");
     const std::string& s = cells[row][col];
-    std::size_t used = 0;
     double v = 0;
-    try {
-      v = std::stod(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || s.find_first_not_of(" \t\r", used) != std::string::npos)
-      throw core::InputError(path, lines[row], "'" + field + "' is not a number: '" + s + "'");
+    if (!toNumber(s, v)) throw core::InputError(path, lines[row], "'" + field + "' is not a number: '" + s + "'");
     return v;
   }
 };
@@ -48,21 +65,12 @@ inline CsvTable readCsvTable(const std::string& path, const std::string& missing
   if (!in) throw core::InputError(path + ": cannot open" + (missing.empty() ? "" : " (" + missing + ")"));
   CsvTable t;
   t.path = path;
-  const auto split = [](const std::string& line) {
-    std::vector<std::string> out;
-    std::stringstream s(line);
-    for (std::string c; std::getline(s, c, ',');) {
-      const std::size_t a = c.find_first_not_of(" \t\r"), b = c.find_last_not_of(" \t\r");
-      out.push_back(a == std::string::npos ? std::string() : c.substr(a, b - a + 1));
-    }
-    return out;
-  };
   std::string line;
   if (!std::getline(in, line)) throw core::InputError(path, 1, "empty file: expected a header line");
-  t.names = split(line);
+  t.names = splitList(line);
   for (int n = 2; std::getline(in, line); ++n) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    t.cells.push_back(split(line));
+    t.cells.push_back(splitList(line));
     t.lines.push_back(n);
   }
   return t;
