@@ -94,11 +94,13 @@ struct StirredPairExtra {
     return r;
   }
 
-  MILLSIM_HD void pairContact(int i, core::Vec3<T> n, T ri, T rj, T mi, core::Vec3<T> vi, core::Vec3<T> vj,
-                              core::Vec3<T> wi, core::Vec3<T> wj, core::Vec3<T> v_rel, const ContactResult<T>& c,
-                              bool begins) const {
+  // A touching pair as i sees it: dv = v_i - v_j (the energies use only the difference), v_rel
+  // at the contact point, and of the law's result only c.force_t and c.dissipation_rate (the
+  // host's batched pass passes those two).
+  MILLSIM_HD void pairContact(int i, core::Vec3<T> n, T ri, T rj, T mi, core::Vec3<T> dv, core::Vec3<T> wi,
+                              core::Vec3<T> wj, core::Vec3<T> v_rel, const ContactResult<T>& c, bool begins) const {
     if constexpr (kTally) {
-      const BeinertEnergies<T> b = beinertEnergies(n, ri, rj, mi, vi, vj, wi, wj);
+      const BeinertEnergies<T> b = beinertEnergies(n, ri, rj, mi, dv, core::zero3<T>(), wi, wj);
       double e[kModeCount];
       for (int q = 0; q < kModeCount; ++q) e[q] = double(b.e[q]);
       CollisionTally& t = tally[i];

@@ -223,9 +223,12 @@ struct ContactForces {
   };
 
   // The host's batched pass (contact_batch.hpp) can take the pairs of a plain drum or stirrer:
-  // one law and one step for all, no pair hook.
+  // one law and one step for all, and no lubrication (a film acts on pairs that do not touch).
+  // A hook that only reads touching pairs (the collision statistics) is called as the block is
+  // booked: kPairHook.
+  static constexpr bool kPairHook = Extra::kActive;
   static constexpr bool kBatchable =
-      !Extra::kActive && std::is_same_v<Dt, T> &&
+      !Extra::kLub && std::is_same_v<Dt, T> &&
       std::is_same_v<std::decay_t<decltype(lawAt(std::declval<const Law&>(), std::declval<const Vec3<T>&>()))>, Law>;
 
   MILLSIM_HD void operator()(int i) const {
@@ -275,7 +278,7 @@ struct ContactForces {
       a.diss_rate += T(0.5) * c.dissipation_rate;
       a.elastic += c.elastic_energy;
       if constexpr (Extra::kActive) {
-        extra.pairContact(i, t.n, ri, rj, mi, vi, vj, wi, wj, t.v_rel, c, begins);
+        extra.pairContact(i, t.n, ri, rj, mi, vi - vj, wi, wj, t.v_rel, c, begins);
         if constexpr (Extra::kLub) {
           // In contact the film acts at the regularised inner cutoff (lubrication.hpp).
           const LubricationResult<T> l = extra.pairLubrication(i, t.n, -t.delta, ri, rj, vi, vj, wi, wj);

@@ -54,6 +54,7 @@ struct Simulation::Impl {
   // Steady-window bookkeeping for the mean shaft power.
   double steady_t0 = -1, steady_work0 = 0;
   dem::DemSums sums0;
+  dem::BallKinematics kinematics;  // the series rows' escape check reuses it
 
   Impl(const scene::Scene& s, const RunOptions& o) : scene(s), options(o) {
     if (!scene.effect_dem)
@@ -148,9 +149,8 @@ void Simulation::Impl::run() {
     while (true) {
       if (t >= next_series - 1e-12 * t_end) {
         const dem::DemSums now = engine->sums();
-        dem::DemHostState s;
-        engine->getState(s);
-        checkBallsInDrum(s.pos, 0, static_cast<int>(s.size()), 0.0, scene, charge, t, "");
+        engine->ballKinematics(kinematics);  // positions only: a full getState copies the contact history
+        checkBallsInDrum(kinematics.pos, 0, static_cast<int>(kinematics.size()), 0.0, scene, charge, t, "");
         fillEnergy(now);
         if (series) series->row(drumSeriesRow(t, now, motion->at(t, phi), summary.energy_residual));
         if (steady_t0 < 0 && t >= steady_start) {

@@ -89,8 +89,8 @@ TEST(BeinertTypology, PairHookBooksDissipationToTheDominantModeAndCountsBeginnin
   c.force_t = Vec3<double>{0, -0.3, 0};  // friction against the slip
   c.dissipation_rate = 0.09;             // W: 0.06 tangential (0.3 N x 0.2 m/s) + 0.03 normal damping
   const Vec3<double> v_rel = vi - vj;
-  hook.pairContact(0, kN, kR, kR, kM, vi, vj, kZero, kZero, v_rel, c, true);
-  hook.pairContact(0, kN, kR, kR, kM, vi, vj, kZero, kZero, v_rel, c, false);
+  hook.pairContact(0, kN, kR, kR, kM, vi - vj, kZero, kZero, v_rel, c, true);
+  hook.pairContact(0, kN, kR, kR, kM, vi - vj, kZero, kZero, v_rel, c, false);
   EXPECT_NEAR(tally[0].dissipated[kModeShearing], 2 * 0.09e-6, 1e-20);
   EXPECT_EQ(tally[0].dissipated[kModeImpact], 0.0);
   EXPECT_EQ(tally[0].dissipated[kModeRolling], 0.0);
