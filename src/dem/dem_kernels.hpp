@@ -128,9 +128,14 @@ struct ScaledDisplacementSq {
 // then, with start[] the exclusive scan of the counts, it writes list[start[i] ..]. Compact rows
 // keep the per-slot springs contiguous, so the force pass streams them (a fixed-capacity row
 // per particle left most of each row empty and made the spring loads miss the cache).
+// The particles are numbered in cell order (DemSolver::reorderParticles runs before), so the
+// partners j > i lie in i's own row of cells after i and in the rows after it: the search visits
+// only those (about half the block), and on the host tests their distances in vectors
+// (CellListView::forEachWithinAfter) at the reach to the largest partner, then each hit at its
+// own. The list is the one a search of the whole block keeps, in the same order.
 template <class T, class Skin = T>
 struct BuildNeighbourList {
-  neighbors::CellListView<T> cells;
+  neighbors::CellListView<T> cells;  // renumbered in cell order
   const Vec3<T>* pos;
   const T* radius;
   Vec3<T>* pos_ref;
@@ -138,6 +143,7 @@ struct BuildNeighbourList {
   const int* start;              // pass 2 input
   int* list;                     // pass 2 output (nullptr in pass 1)
   Skin skin;                     // T, or an ensemble's per case (SceneTable)
+  T max_radius;                  // the largest radius of any particle: the search's reach
   T range_factor = T(0);         // pairs interacting at a gap (lubrication): listed within (1 + f)(r_i + r_j) + skin
   const int* body_of = nullptr;  // DCDEM: elements of one body (same id >= 0) never pair
   MILLSIM_HD void operator()(int i) const {
@@ -147,11 +153,11 @@ struct BuildNeighbourList {
     int c = 0;
     const int base = list ? start[i] : 0;
     const int bi = body_of ? body_of[i] : -1;
-    cells.forEachCandidate(xi, [&](int j) {
-      if (j <= i) return;
+    const T search = (T(1) + range_factor) * (ri + max_radius) + skin_i;
+    cells.forEachWithinAfter(i, xi, search * search, pos, [&](int j, Vec3<T>, T r2) {
       if (bi >= 0 && body_of[j] == bi) return;
       const T reach = (T(1) + range_factor) * (ri + radius[j]) + skin_i;
-      if (core::norm2(xi - pos[j]) < reach * reach) {
+      if (r2 < reach * reach) {
         if (list) list[base + c] = j;
         ++c;
       }

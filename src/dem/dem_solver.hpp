@@ -160,6 +160,7 @@ class DemSolver final : public DemEngine {
       inv_inertia[i] = s.inertia[i] > 0 ? T(1.0 / s.inertia[i]) : T(0);
       id[i] = static_cast<int>(i);
     }
+    m_max_radius = std::max(m_setup.max_radius, s.radius.empty() ? 0.0 : *std::max_element(s.radius.begin(), s.radius.end()));
     m_pos.copyFromHost(pos);
     m_vel.copyFromHost(vel);
     m_omega.copyFromHost(omega);
@@ -941,8 +942,8 @@ class DemSolver final : public DemEngine {
   // or an ensemble's per case).
   template <class Skin>
   void buildList(Skin skin) {
-    BuildNeighbourList<T, Skin> build{m_cells.view(),     m_pos.data(), m_radius.data(), m_pos_ref.data(),
-                                      m_nbr_count.data(), nullptr,      nullptr,         skin};
+    BuildNeighbourList<T, Skin> build{m_cells.view(), m_pos.data(), m_radius.data(), m_pos_ref.data(),
+                                      m_nbr_count.data(), nullptr, nullptr, skin, T(m_max_radius)};
     build.range_factor = T(lubricated() ? m_setup.lubrication_outer : 0.0);
     if (m_nb > 0) build.body_of = m_body_of.data();
     backend::parallelFor(Space{}, m_n, build);
@@ -1186,6 +1187,9 @@ class DemSolver final : public DemEngine {
   std::vector<T> m_host_dt;
   SlabLayout<T> m_slabs{};
   int m_n = 0;
+  // The neighbour search's reach to the largest partner: the setup's (it sizes the cells) or a
+  // larger radius in the state.
+  double m_max_radius = 0;
   std::int64_t m_rebuilds = 0;
   std::int64_t m_steps = 0;     // steps since setState (for error messages)
   bool m_sums_cleared = false;  // KickDrift cleared the force sums since the last contact pass
