@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "dem/contact/hertz.hpp"
@@ -135,10 +136,8 @@ TEST(ContactBatch, TanhSmoothedBlocksEqualPairCallsAtEverySimdLevel) {
 
 // The dense bed of dem_fixture.hpp (as in test_dem_threads.cpp), one thread, 400 steps.
 dem::DemHostState runBed(SimdLevel level) {
-  backend::setSimdLevel(level);
-  const dem::DemHostState s = testing::runDenseDrumBed(400);
-  backend::setSimdLevel(backend::cpuSimdLevel());
-  return s;
+  const backend::ScopedSimdLevel simd(level);
+  return testing::runDenseDrumBed(400);
 }
 
 TEST(ContactBatch, BlockedPassGivesThePairByPairPhysics) {
@@ -182,6 +181,19 @@ TEST(ContactBatch, UnknownOrUnsupportedLevelsAreRefused) {
   if (backend::cpuSimdLevel() != SimdLevel::kAvx512) {
     EXPECT_THROW(backend::setSimdLevel(SimdLevel::kAvx512), std::invalid_argument);
   }
+}
+
+// A comparison at the scalar level that fails half way (an exception, a fatal assertion) must
+// hand the process back at the level it found: the later tests run at that level.
+TEST(ContactBatch, ScopedLevelIsGivenBackWhenItsScopeThrows) {
+  const SimdLevel before = backend::simdLevel();
+  try {
+    const backend::ScopedSimdLevel scalar(SimdLevel::kScalar);
+    EXPECT_EQ(backend::simdLevel(), SimdLevel::kScalar);
+    throw std::runtime_error("a failed run");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(backend::simdLevel(), before);
 }
 
 }  // namespace

@@ -129,7 +129,7 @@ void checkSlotFilter() {
   const int kSentinel = -7;
   std::uniform_int_distribution<int> extra(0, 40);
   for (const auto level : millsim::testing::hostSimdLevels()) {
-    millsim::backend::setSimdLevel(level);
+    const millsim::backend::ScopedSimdLevel simd(level);
     for (int ranges = 1; ranges <= 3; ++ranges)
       for (int begin0 : {0, 1, 5, 16, 29})
         for (int len = 0; len <= 40; ++len) {
@@ -158,7 +158,6 @@ void checkSlotFilter() {
           EXPECT_EQ(hit.back(), kSentinel) << simdLevelName(level) << ": wrote past the buffer";
         }
   }
-  millsim::backend::setSimdLevel(millsim::backend::cpuSimdLevel());
 }
 
 }  // namespace
@@ -187,7 +186,7 @@ void checkRenumberedSearch(bool two_d) {
   ASSERT_TRUE(view.in_order);
   const T cut2 = T(cut * cut);
   for (const auto level : millsim::testing::hostSimdLevels()) {
-    millsim::backend::setSimdLevel(level);
+    const millsim::backend::ScopedSimdLevel simd(level);
     PairSet found;
     for (int s = 0; s < static_cast<int>(q.size()); ++s)
       view.forEachWithin(q[s], cut2, q.data(), [&](int j, Vec3<T>, T) {
@@ -203,7 +202,6 @@ void checkRenumberedSearch(bool two_d) {
     }
     EXPECT_GT(found.size(), 1000u);
   }
-  millsim::backend::setSimdLevel(millsim::backend::cpuSimdLevel());
 }
 
 TEST(SlotFilter, RenumberedSearchEqualsBruteForce) {

@@ -130,13 +130,12 @@ Sums pairOnce(Scene& s, const Physics& phys, int threads, backend::SimdLevel lev
   s.visc.assign(static_cast<std::size_t>(n), 0.0);
   sph::SphPairScatter<double> scatter;
   omp_set_num_threads(threads);
-  backend::setSimdLevel(level);
+  const backend::ScopedSimdLevel simd(level);
   scatter.run<kShift, kStrain>(s.cells.view(0), s.cells.view(1), s.pos.data(), p, [&](auto sink) {
     return sph::SphPairInteraction<Physics, decltype(sink)>{
         s.cells.view(0), s.cells.view(1), p, phys, 4 * kH * kH, sink};
   });
   omp_set_num_threads(1);
-  backend::setSimdLevel(backend::cpuSimdLevel());
   return read(s);
 }
 

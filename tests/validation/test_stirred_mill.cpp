@@ -230,9 +230,10 @@ std::map<std::string, std::vector<double>> collisionTable(const std::filesystem:
 // by percent.
 TEST(StirredMillCase, StatisticsEqualInBlocksAndPairByPair) {
   const std::vector<std::string> set = {"time.end=0.0015", "collisions.start=0", "collisions.sample_every=0.0005"};
-  millsim::backend::setSimdLevel(millsim::backend::SimdLevel::kScalar);
-  const auto pairwise = runCase("stirred_mill_ls1_small", set, "stirred_stats_pairwise");
-  millsim::backend::setSimdLevel(millsim::backend::cpuSimdLevel());
+  const auto pairwise = [&] {
+    const millsim::backend::ScopedSimdLevel scalar(millsim::backend::SimdLevel::kScalar);
+    return runCase("stirred_mill_ls1_small", set, "stirred_stats_pairwise");
+  }();
   const auto blocked = runCase("stirred_mill_ls1_small", set, "stirred_stats_blocked");
   ASSERT_EQ(pairwise.summary["status"], "ok");
   ASSERT_EQ(blocked.summary["status"], "ok");

@@ -58,4 +58,18 @@ const char* simdLevelName(SimdLevel level);
 // "avx2" -> kAvx2 etc.; throws std::invalid_argument naming the accepted values.
 SimdLevel parseSimdLevel(const std::string& name);
 
+// Sets a level for a scope and gives back the one it found when the scope ends, also when it
+// ends by an exception or a failed test assertion (a comparison at the scalar level must not
+// leave the rest of the process there).
+class ScopedSimdLevel {
+ public:
+  explicit ScopedSimdLevel(SimdLevel level) : m_previous(simdLevel()) { setSimdLevel(level); }
+  ~ScopedSimdLevel() { setSimdLevel(m_previous); }
+  ScopedSimdLevel(const ScopedSimdLevel&) = delete;
+  ScopedSimdLevel& operator=(const ScopedSimdLevel&) = delete;
+
+ private:
+  SimdLevel m_previous;
+};
+
 }  // namespace millsim::backend
